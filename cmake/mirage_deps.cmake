@@ -1,0 +1,21 @@
+# Every third-party dependency, found in one place. All come from Debian 12 packages
+# (scripts/install-deps installs them); nothing is downloaded at configure time.
+find_package(Threads REQUIRED)
+find_package(embree 3.13 REQUIRED)          # libembree-dev: ray casting
+find_package(Eigen3 3.4 REQUIRED NO_MODULE) # libeigen3-dev: vectors, quaternions
+find_package(yaml-cpp REQUIRED)             # libyaml-cpp-dev: scene and sensor files
+list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)
+find_package(GeographicLib REQUIRED)        # libgeographiclib-dev: WGS84 <-> local frames
+if(NOT TARGET GeographicLib::GeographicLib)
+  add_library(GeographicLib::GeographicLib INTERFACE IMPORTED)
+  target_include_directories(GeographicLib::GeographicLib INTERFACE ${GeographicLib_INCLUDE_DIRS})
+  target_link_libraries(GeographicLib::GeographicLib INTERFACE ${GeographicLib_LIBRARIES})
+endif()
+find_package(PROJ REQUIRED CONFIG)          # libproj-dev: EPSG -> WKT, projected <-> geodetic
+find_package(CLI11 REQUIRED)                # libcli11-dev: command line
+find_package(fmt REQUIRED)                  # libfmt-dev: formatting
+find_package(PNG REQUIRED)                  # libpng-dev: preview images
+if(MIRAGE_BUILD_TESTS)
+  find_package(GTest REQUIRED)              # googletest
+  find_package(benchmark REQUIRED)          # libbenchmark-dev
+endif()

@@ -1,0 +1,21 @@
+# Warnings and sanitizers for Mirage's own targets only (never global flags).
+function(mirage_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wconversion -Wimplicit-fallthrough)
+  if(MIRAGE_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(MIRAGE_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                             -fno-sanitize-recover=undefined)
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  endif()
+endfunction()
+
+# A Mirage library: mirage_<name> with alias mirage::<name>.
+function(mirage_add_library name)
+  add_library(mirage_${name} ${ARGN})
+  add_library(mirage::${name} ALIAS mirage_${name})
+  target_include_directories(mirage_${name} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:include>)
+  mirage_set_warnings(mirage_${name})
+endfunction()

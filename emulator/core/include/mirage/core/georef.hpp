@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <Eigen/Core>
+#include <string>
+
+namespace mirage::core {
+
+// Georeference of a scene: a double-precision anchor in a projected CRS (EPSG code).
+// Geometry and poses are float32/double *relative to the anchor* ("local" frame, metres,
+// x = grid east, y = grid north, z = up), which keeps float32 geometry within ~1 km of zero
+// however large the projected coordinates are (physics.md §4.8).
+// A geodetic anchor (lat/lon/h) is converted once to its UTM zone (EPSG 326xx/327xx) unless an
+// EPSG code is given. A scene without a georeference uses EPSG 0 and anchor (0, 0, 0).
+// Load-time only (PROJ calls); not for per-pulse use.
+class Georef {
+public:
+    Georef() = default;
+    static Georef projected(int epsg, const Eigen::Vector3d& anchor);
+    static Georef geodetic(double lat_deg, double lon_deg, double h_m, int epsg = 0);
+
+    int epsg() const { return epsg_; }
+    const Eigen::Vector3d& anchor() const { return anchor_; }
+    bool has_crs() const { return epsg_ != 0; }
+
+    // World (projected) <-> local.
+    Eigen::Vector3d world_from_local(const Eigen::Vector3d& local) const { return anchor_ + local; }
+    Eigen::Vector3d local_from_world(const Eigen::Vector3d& world) const { return world - anchor_; }
+    // WGS84 geodetic (degrees, ellipsoidal height) -> local. Throws ConfigError without a CRS.
+    Eigen::Vector3d local_from_geodetic(double lat_deg, double lon_deg, double h_m) const;
+    // Local -> WGS84 geodetic (lat, lon in degrees, h in m).
+    Eigen::Vector3d geodetic_from_local(const Eigen::Vector3d& local) const;
+    // OGC WKT (WKT1 as LAS 1.4 readers expect) of the CRS, from PROJ; empty without a CRS.
+    std::string wkt() const;
+
+private:
+    int epsg_ = 0;
+    Eigen::Vector3d anchor_{Eigen::Vector3d::Zero()};
+};
+
+}  // namespace mirage::core

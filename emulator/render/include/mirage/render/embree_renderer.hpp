@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <cstdint>
+#include <memory>
+
+#include "mirage/render/renderer.hpp"
+#include "mirage/scene/scene.hpp"
+
+namespace mirage::render {
+
+enum class BvhQuality { Low, Medium, High };
+enum class TraceApi { Single, Packet16 };   // rtcIntersect1 per ray, or rtcIntersect16
+
+struct EmbreeOptions {
+    BvhQuality quality = BvhQuality::Medium;
+    TraceApi api = TraceApi::Packet16;
+    bool robust = false;       // RTC_SCENE_FLAG_ROBUST (watertight)
+    bool compact = false;      // RTC_SCENE_FLAG_COMPACT
+};
+
+struct EmbreeBuildStats {
+    double build_seconds = 0;
+    std::uint64_t triangles = 0;        // unique triangles stored (instances counted once)
+    std::uint64_t placed_triangles = 0; // counting every instance placement
+    std::uint64_t bvh_bytes = 0;        // Embree memory (RTC_DEVICE memory monitor)
+};
+
+// Embree 3 scene: one geometry per mesh; instanced meshes become child scenes placed with
+// rtcNewGeometry(RTC_GEOMETRY_TYPE_INSTANCE). All Embree calls of the project live in its .cpp.
+// Errors from the device callback are stored and rethrown as mirage::Error after the call.
+class EmbreeRenderer : public Renderer {
+public:
+    explicit EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt = {});
+    ~EmbreeRenderer() override;
+    EmbreeRenderer(const EmbreeRenderer&) = delete;
+    EmbreeRenderer& operator=(const EmbreeRenderer&) = delete;
+
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override;
+    const EmbreeBuildStats& build_stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// O(rays × triangles) reference in double precision with Möller–Trumbore; for tests only.
+class BruteForceRenderer : public Renderer {
+public:
+    explicit BruteForceRenderer(const scene::Scene& scene);
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override;
+
+private:
+    const scene::Scene& scene_;
+};
+
+}  // namespace mirage::render

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "mirage/core/point.hpp"
+#include "mirage/core/pose.hpp"
+#include "mirage/core/trajectory.hpp"
+#include "mirage/physics/radiometry.hpp"
+#include "mirage/render/renderer.hpp"
+#include "mirage/scene/scene.hpp"
+#include "mirage/sensor/sensor.hpp"
+
+namespace mirage::render {
+
+// Receives points in pulse order (deterministic whatever the thread count), one chunk at a time,
+// from a single thread at a time.
+class PointSink {
+public:
+    virtual ~PointSink() = default;
+    virtual void write(std::span<const core::PointRecord> points) = 0;
+};
+
+struct RenderOptions {
+    std::uint64_t seed = 1;
+    int threads = 0;                      // 0 = hardware concurrency
+    core::GpsTime start{};                // time of pulse 0
+    core::Nanos duration{std::chrono::seconds(1)};
+    bool noise = true;                    // range noise, jitter, detector noise
+    std::size_t chunk_pulses = 8192;      // work unit; results are independent of it
+    physics::IntensityCalibration intensity;
+};
+
+struct RenderStats {
+    std::uint64_t pulses = 0;
+    std::uint64_t points = 0;
+    std::uint64_t misses = 0;        // no geometry within max range
+    std::uint64_t voids = 0;         // hit but N_laser < γ·ΔN
+    std::uint64_t too_close = 0;     // hit nearer than min range
+    std::uint64_t rays = 0;          // sub-rays traced
+    double seconds = 0;
+};
+
+// Progress: pulses done so far (called from the writer thread, rate-limited by the caller).
+using ProgressFn = std::function<void(const RenderStats&)>;
+
+// The spine: pose at each pulse's firing time → sub-rays → Embree → physics → points.
+// Stops early (returns what was written) when `stop` becomes true (SIGINT).
+RenderStats render(const scene::Scene& scene, const Renderer& renderer,
+                   const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
+                   const core::Mount& mount, const physics::Environment& env,
+                   const RenderOptions& opt, PointSink& sink, const ProgressFn& progress = {},
+                   const std::atomic<bool>* stop = nullptr);
+
+}  // namespace mirage::render

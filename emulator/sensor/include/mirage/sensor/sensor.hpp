@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mirage/core/time.hpp"
+
+namespace mirage::sensor {
+
+enum class BeamProfile { Gaussian, TopHat };
+
+// Transmitter. SI units throughout.
+struct BeamParams {
+    double wavelength_m = 905e-9;
+    double laser_bandwidth_m = 5e-9;
+    double pulse_energy_j = 1e-7;      // per pulse
+    double pulse_width_s = 5e-9;       // FWHM
+    double divergence_rad = 3e-3;      // full angle (1/e² diameter for Gaussian)
+    BeamProfile profile = BeamProfile::Gaussian;
+    int sub_rays = 1;                  // footprint samples per pulse: 1, 7, 19, 37, ... (hex rings)
+};
+
+// Receiver and detector (seed 001 eqs. 4–13).
+struct ReceiverParams {
+    double aperture_diameter_m = 0.025;
+    double f_number = 1.0;
+    double detector_area_m2 = 1e-7;      // A_pix
+    double eta_transmitter = 0.9;
+    double eta_receiver = 0.8;
+    double quantum_efficiency = 0.7;     // η (avg) at the laser wavelength
+    double detector_bandwidth_m = 20e-9; // Δλ_det (optical filter)
+    double integration_time_s = 0;       // τ_int for background/noise; 0 → pulse width
+    double noise_irradiance_sigma = 0;   // σ₁ of δE, W/(m²·µm)
+    double threshold_gamma = 3.0;        // void if N_laser < γ·ΔN
+    double min_range_m = 0.5;
+    double max_range_m = 120.0;
+    double range_resolution_m = 0.0;     // output quantisation (0 = none)
+    int max_returns = 1;                 // returns per pulse kept (strongest first when 1)
+};
+
+// Measurement noise (seed 001 eqs. 14–15).
+struct NoiseParams {
+    double range_sigma_m = 0;      // δR
+    double jitter_sigma_rad = 0;   // δxy, per axis
+};
+
+// One pulse as fired: time since scan start, direction in the sensor frame (FLU, unit),
+// channel (laser id), scan angle for LAS, and the sensor-frame azimuth.
+struct PulseSpec {
+    std::int64_t t_ns = 0;
+    Eigen::Vector3f dir{1, 0, 0};
+    std::uint16_t channel = 0;
+    float scan_angle_deg = 0;
+    float azimuth_deg = 0;
+    std::uint8_t scan_direction = 0;       // 1 when the mirror moves in +angle direction
+    std::uint8_t edge_of_flight_line = 0;  // 1 on the last pulse of a scan line
+};
+
+// Where pulses go and when. Pulse k's spec is a pure function of k, so any thread can
+// generate any range of pulses. Implementations: spinning multi-beam, oscillating mirror
+// (sawtooth/sinusoidal), rotating polygon, Palmer.
+class ScanPattern {
+public:
+    virtual ~ScanPattern() = default;
+    virtual std::string kind() const = 0;
+    // Pulses fired in [0, duration).
+    virtual std::uint64_t pulse_count(core::Nanos duration) const = 0;
+    // Fills out[0..n) with pulses first .. first+n−1.
+    virtual void pulses(std::uint64_t first, std::size_t n, PulseSpec* out) const = 0;
+    virtual double pulse_rate_hz() const = 0;
+    virtual std::uint32_t channels() const = 0;
+    // Pulses per firing group (one column of a spinning sensor; 1 for single-beam scanners).
+    // The renderer regroups rays of neighbouring groups by channel for coherent tracing.
+    virtual std::uint32_t group_size() const { return channels(); }
+};
+
+struct SensorModel {
+    std::string name;
+    std::shared_ptr<const ScanPattern> scan;
+    BeamParams beam;
+    ReceiverParams receiver;
+    NoiseParams noise;
+    std::uint16_t point_source_id = 1;
+    bool airborne = false;      // LAS scan angle = off-nadir, previews top-down
+};
+
+// Built-in presets: vlp16, vlp16-hires, vlp32c, hdl32e, hdl64e-s3, os1-64-<W>x<F>,
+// os1-128-<W>x<F> (W ∈ {512, 1024, 2048}, F ∈ {10, 20}), and airborne presets
+// als-mirror (sawtooth, default), als-mirror-sine, als-polygon, als-palmer.
+std::vector<std::string> preset_names();
+SensorModel preset(const std::string& name);          // throws ConfigError if unknown
+SensorModel load_sensor_yaml(const std::string& path); // throws ConfigError with key path
+// A preset name or a YAML path.
+SensorModel resolve_sensor(const std::string& spec);
+
+// Footprint sampling of the divergence cone: angular offsets (rad, about two axes orthogonal
+// to the beam) and weights (sum 1) from the beam profile. n = 1, 7, 19, 37 … (1 + 6 + 12 + …).
+struct SubRay {
+    float dx = 0, dy = 0;
+    float weight = 1;
+};
+std::vector<SubRay> footprint(int n, BeamProfile profile, double divergence_rad);
+
+}  // namespace mirage::sensor

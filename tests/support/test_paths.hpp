@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <unistd.h>
+#include <cstdlib>
+
+namespace mirage::test {
+
+// Third-party captures live outside the project (../shared/captures); a test that needs one
+// calls this and skips with a visible message when the folder or file is absent.
+inline std::filesystem::path capture_or_skip(const std::string& name) {
+    const char* env = std::getenv("MIRAGE_CAPTURES_DIR");
+    std::filesystem::path dir = env ? env : MIRAGE_CAPTURES_DIR;
+    return dir / name;
+}
+
+inline std::filesystem::path source_dir() { return MIRAGE_SOURCE_DIR; }
+
+// A fresh temporary folder per test, removed at the end.
+class TempDir {
+public:
+    TempDir() {
+        auto base = std::filesystem::temp_directory_path();
+        for (int i = 0;; ++i) {
+            path_ = base / ("mirage-test-" + std::to_string(::getpid()) + "-" + std::to_string(i));
+            if (std::filesystem::create_directory(path_)) break;
+        }
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    const std::filesystem::path& path() const { return path_; }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    std::filesystem::path path_;
+};
+
+}  // namespace mirage::test
