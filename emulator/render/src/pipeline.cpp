@@ -1,1 +1,451 @@
-// placeholder: being written
+// SPDX-License-Identifier: Apache-2.0
+#include "mirage/render/pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <numbers>
+#include <thread>
+
+#include "mirage/core/rng.hpp"
+
+namespace mirage::render {
+namespace {
+
+using core::GpsTime;
+using core::PointRecord;
+
+// Two unit vectors orthogonal to d (and to each other), for sub-ray offsets and jitter.
+inline void orthonormal_basis(const Eigen::Vector3d& d, Eigen::Vector3d& u, Eigen::Vector3d& v) {
+    const Eigen::Vector3d ref =
+        std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+    u = d.cross(ref).normalized();
+    v = d.cross(u);
+}
+
+// Pulses of a chunk in firing order, their sensor poses, and the rays traced for them.
+struct ChunkGeometry {
+    std::vector<sensor::PulseSpec> specs;
+    std::vector<Eigen::Vector3d> origin;     // local frame, double
+    std::vector<Eigen::Vector3d> direction;  // nominal beam direction, local frame
+    std::vector<Ray> rays;                   // tracing order
+    std::vector<std::uint32_t> ray_slot;     // rays[i] belongs to pulse ray_slot[i] / S, sub-ray % S
+};
+
+class ChunkBuilder {
+public:
+    ChunkBuilder(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
+                 const core::Mount& mount, GpsTime start)
+        : sensor_(sensor), trajectory_(trajectory), mount_(mount.as_pose()), start_(start),
+          subrays_(sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile,
+                                     sensor.beam.divergence_rad)),
+          group_(std::max<std::uint32_t>(1, sensor.scan->group_size())) {}
+
+    std::size_t subray_count() const { return subrays_.size(); }
+    const std::vector<sensor::SubRay>& subrays() const { return subrays_; }
+
+    void build(std::uint64_t first, std::size_t n, ChunkGeometry& g) const {
+        g.specs.resize(n);
+        sensor_.scan->pulses(first, n, g.specs.data());
+        g.origin.resize(n);
+        g.direction.resize(n);
+        std::size_t hint = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const GpsTime t = start_ + core::Nanos(g.specs[i].t_ns);
+            const core::Pose p = trajectory_.at(t, hint) * mount_;
+            g.origin[i] = p.position;
+            g.direction[i] = (p.attitude * g.specs[i].dir.cast<double>()).normalized();
+        }
+        const std::size_t s_count = subrays_.size();
+        g.rays.resize(n * s_count);
+        g.ray_slot.resize(n * s_count);
+        // Ray order: one channel over neighbouring groups, sub-rays adjacent (physics.md §4.3:
+        // batching one beam over neighbouring azimuths is 4–5× faster than firing order).
+        const std::size_t groups = (n + group_ - 1) / group_;
+        std::size_t r = 0;
+        for (std::size_t c = 0; c < group_; ++c) {
+            for (std::size_t gi = 0; gi < groups; ++gi) {
+                const std::size_t i = gi * group_ + c;
+                if (i >= n) continue;
+                const Eigen::Vector3d& d = g.direction[i];
+                Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+                if (s_count > 1) orthonormal_basis(d, u, v);
+                for (std::size_t s = 0; s < s_count; ++s, ++r) {
+                    Eigen::Vector3d ds = d;
+                    if (s > 0) {
+                        ds = (d + std::tan(double(subrays_[s].dx)) * u +
+                              std::tan(double(subrays_[s].dy)) * v)
+                                 .normalized();
+                    }
+                    Ray& ray = g.rays[r];
+                    ray.ox = static_cast<float>(g.origin[i].x());
+                    ray.oy = static_cast<float>(g.origin[i].y());
+                    ray.oz = static_cast<float>(g.origin[i].z());
+                    ray.dx = static_cast<float>(ds.x());
+                    ray.dy = static_cast<float>(ds.y());
+                    ray.dz = static_cast<float>(ds.z());
+                    ray.tnear = 0.0f;
+                    ray.tfar = static_cast<float>(sensor_.receiver.max_range_m);
+                    g.ray_slot[r] = static_cast<std::uint32_t>(i * s_count + s);
+                }
+            }
+        }
+    }
+
+private:
+    const sensor::SensorModel& sensor_;
+    const core::Trajectory& trajectory_;
+    core::Pose mount_;
+    GpsTime start_;
+    std::vector<sensor::SubRay> subrays_;
+    std::uint32_t group_;
+};
+
+// Sub-ray hit contributing to a return.
+struct Contribution {
+    double range_m;
+    double power_w;
+    std::uint32_t sub;   // sub-ray index, to recover the hit
+};
+
+struct ChunkResult {
+    std::vector<PointRecord> points;
+    RenderStats stats;
+};
+
+class PulseShader {
+public:
+    PulseShader(const scene::Scene& scene, const sensor::SensorModel& sensor,
+                const physics::Environment& env, const RenderOptions& opt)
+        : scene_(scene), sensor_(sensor), env_(env), opt_(opt),
+          radiometry_(sensor.beam, sensor.receiver, env), sun_up_(env.sun.up()),
+          to_sun_(env.sun.to_sun_enu()),
+          // Sub-ray hits closer than the pulse's range resolution merge into one return.
+          separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s) {}
+
+    void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
+               const std::vector<sensor::SubRay>& subrays, ChunkResult& out) const {
+        const std::size_t n = g.specs.size();
+        const std::size_t s_count = subrays.size();
+        // Hits back in pulse order.
+        thread_local std::vector<Hit> ordered;
+        ordered.resize(hits.size());
+        for (std::size_t r = 0; r < hits.size(); ++r) ordered[g.ray_slot[r]] = hits[r];
+
+        const auto& rx = sensor_.receiver;
+        std::vector<Contribution> contrib;
+        contrib.reserve(s_count);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint64_t pulse = first + i;
+            const Hit* h = &ordered[i * s_count];
+            contrib.clear();
+            bool any_close = false;
+            for (std::size_t s = 0; s < s_count; ++s) {
+                if (!h[s].hit()) continue;
+                const double range = h[s].t;
+                if (range < rx.min_range_m) {
+                    any_close = true;
+                    continue;
+                }
+                if (range > rx.max_range_m) continue;
+                const Eigen::Vector3d dir = ray_direction(g, i, s, subrays);
+                const double cos_inc =
+                    std::abs(dir.x() * h[s].nx + dir.y() * h[s].ny + dir.z() * h[s].nz);
+                const scene::Material& m = scene_.materials[h[s].material];
+                const double brdf = physics::monostatic_brdf(m, cos_inc);
+                const double p =
+                    radiometry_.laser_power_w(subrays[s].weight, range, brdf, cos_inc);
+                contrib.push_back({range, p, static_cast<std::uint32_t>(s)});
+            }
+            out.stats.pulses++;
+            if (contrib.empty()) {
+                if (any_close)
+                    out.stats.too_close++;
+                else
+                    out.stats.misses++;
+                continue;
+            }
+            emit_returns(pulse, g, i, h, contrib, out);
+        }
+        out.stats.rays += hits.size();
+    }
+
+private:
+    Eigen::Vector3d ray_direction(const ChunkGeometry& g, std::size_t i, std::size_t s,
+                                  const std::vector<sensor::SubRay>& subrays) const {
+        const Eigen::Vector3d& d = g.direction[i];
+        if (s == 0) return d;
+        Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+        orthonormal_basis(d, u, v);
+        return (d + std::tan(double(subrays[s].dx)) * u + std::tan(double(subrays[s].dy)) * v)
+            .normalized();
+    }
+
+    void emit_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
+                      std::vector<Contribution>& contrib, ChunkResult& out) const {
+        const auto& rx = sensor_.receiver;
+        // Group sub-ray hits into returns: sorted by range, split where the gap exceeds the
+        // pulse's range resolution c·τ/2 (two surfaces closer than that blend into one echo).
+        struct Return {
+            double range_m = 0, power_w = 0, best_power = -1;
+            std::uint32_t best_sub = 0;
+        };
+        Return returns[8];
+        int count = 0;
+        if (contrib.size() > 1)
+            std::sort(contrib.begin(), contrib.end(),
+                      [](const Contribution& a, const Contribution& b) {
+                          return a.range_m < b.range_m || (a.range_m == b.range_m && a.sub < b.sub);
+                      });
+        double last_range = -1e300;
+        for (const Contribution& c : contrib) {
+            if (count == 0 || c.range_m - last_range > separation_m_) {
+                if (count == 8) break;
+                ++count;
+            }
+            Return& r = returns[count - 1];
+            r.range_m += c.range_m * c.power_w;
+            r.power_w += c.power_w;
+            if (c.power_w > r.best_power) {
+                r.best_power = c.power_w;
+                r.best_sub = c.sub;
+            }
+            last_range = c.range_m;
+        }
+        for (int k = 0; k < count; ++k) {
+            Return& r = returns[k];
+            r.range_m = r.power_w > 0 ? r.range_m / r.power_w : contrib.front().range_m;
+        }
+        // Which returns are reported: the strongest when one is kept, else the nearest ones.
+        int chosen[8];
+        int kept = 0;
+        const int max_returns = std::clamp(rx.max_returns, 1, 8);
+        if (max_returns == 1 || count == 1) {
+            int best = 0;
+            for (int k = 1; k < count; ++k)
+                if (returns[k].power_w > returns[best].power_w) best = k;
+            chosen[kept++] = best;
+        } else {
+            for (int k = 0; k < count && kept < max_returns; ++k) chosen[kept++] = k;
+        }
+
+        core::PulseRng rng(opt_.seed, pulse, 0);
+        const sensor::PulseSpec& spec = g.specs[i];
+        const double jitter = opt_.noise ? sensor_.noise.jitter_sigma_rad : 0.0;
+        const double range_sigma = opt_.noise ? sensor_.noise.range_sigma_m : 0.0;
+        const std::size_t first_point = out.points.size();
+        bool any_void = false;
+        for (int k = 0; k < kept; ++k) {
+            const Return& r = returns[chosen[k]];
+            const Hit& hit = h[r.best_sub];
+            const scene::Material& m = scene_.materials[hit.material];
+            const double n_laser = radiometry_.laser_electrons(r.power_w);
+            double n_other = 0.0;
+            if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+                const double cos_sun =
+                    sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
+                            : 0.0;
+                n_other = radiometry_.background_electrons(r.range_m, m.reflectance / std::numbers::pi,
+                                                           cos_sun);
+            }
+            const double z = opt_.noise ? rng.normal() : 0.0;
+            if (radiometry_.is_void(n_laser, n_other, z)) {
+                any_void = true;
+                continue;
+            }
+            double range = r.range_m;
+            if (range_sigma > 0.0) range += range_sigma * rng.normal();
+            if (rx.range_resolution_m > 0.0)
+                range = std::round(range / rx.range_resolution_m) * rx.range_resolution_m;
+            Eigen::Vector3d d = g.direction[i];
+            if (jitter > 0.0) {
+                // Platform jitter (seed 001 eq. 15): an angle about two axes orthogonal to the
+                // beam, so the lateral error grows with range.
+                Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+                orthonormal_basis(d, u, v);
+                const double ax = jitter * rng.normal();
+                const double ay = jitter * rng.normal();
+                d = (d + std::tan(ax) * u + std::tan(ay) * v).normalized();
+            }
+            const Eigen::Vector3d p = g.origin[i] + range * d;
+            PointRecord pt;
+            pt.x = p.x();
+            pt.y = p.y();
+            pt.z = p.z();
+            pt.t = opt_.start + core::Nanos(spec.t_ns);
+            pt.pulse = pulse;
+            pt.range_m = static_cast<float>(range);
+            pt.scan_angle_deg = spec.scan_angle_deg;
+            pt.azimuth_deg = spec.azimuth_deg;
+            pt.n_laser = n_laser;
+            pt.intensity = opt_.intensity.to_u16(n_laser);
+            pt.channel = spec.channel;
+            pt.point_source_id = sensor_.point_source_id;
+            pt.red = m.red;
+            pt.green = m.green;
+            pt.blue = m.blue;
+            pt.classification = m.classification;
+            pt.scan_direction = spec.scan_direction;
+            pt.edge_of_flight_line = spec.edge_of_flight_line;
+            out.points.push_back(pt);
+        }
+        const std::size_t emitted = out.points.size() - first_point;
+        for (std::size_t k = 0; k < emitted; ++k) {
+            out.points[first_point + k].return_number = static_cast<std::uint8_t>(k + 1);
+            out.points[first_point + k].number_of_returns = static_cast<std::uint8_t>(emitted);
+        }
+        if (emitted == 0 && any_void) out.stats.voids++;
+        out.stats.points += emitted;
+    }
+
+    const scene::Scene& scene_;
+    const sensor::SensorModel& sensor_;
+    const physics::Environment& env_;
+    const RenderOptions& opt_;
+    physics::Radiometry radiometry_;
+    bool sun_up_;
+    Eigen::Vector3d to_sun_;
+    double separation_m_;
+};
+
+void accumulate(RenderStats& into, const RenderStats& s) {
+    into.pulses += s.pulses;
+    into.points += s.points;
+    into.misses += s.misses;
+    into.voids += s.voids;
+    into.too_close += s.too_close;
+    into.rays += s.rays;
+}
+
+}  // namespace
+
+std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
+                               const core::Mount& mount, core::GpsTime start, std::uint64_t first,
+                               std::size_t n) {
+    ChunkBuilder builder(sensor, trajectory, mount, start);
+    ChunkGeometry g;
+    builder.build(first, n, g);
+    return std::move(g.rays);
+}
+
+RenderStats render(const scene::Scene& scene, const Renderer& renderer,
+                   const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
+                   const core::Mount& mount, const physics::Environment& env,
+                   const RenderOptions& opt, PointSink& sink, const ProgressFn& progress,
+                   const std::atomic<bool>* stop) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
+    // Chunks are whole firing groups so the ray regrouping never splits a column.
+    const std::size_t group = std::max<std::uint32_t>(1, sensor.scan->group_size());
+    const std::size_t chunk = std::max<std::size_t>(group, opt.chunk_pulses / group * group);
+    const std::uint64_t chunks = (total + chunk - 1) / chunk;
+    int threads = opt.threads > 0 ? opt.threads
+                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+
+    const ChunkBuilder builder(sensor, trajectory, mount, opt.start);
+    const PulseShader shader(scene, sensor, env, opt);
+
+    // Ordered hand-over: workers fill slots, this thread writes them in chunk order, so the
+    // output is identical for any thread count. At most `window` chunks are in flight.
+    const std::uint64_t window = static_cast<std::uint64_t>(threads) * 2 + 2;
+    std::mutex mu;
+    std::condition_variable cv_done, cv_space;
+    std::deque<std::unique_ptr<ChunkResult>> slots;   // slots[k] = chunk written_ + k
+    std::uint64_t written = 0, next = 0;
+    bool abort = false;
+    std::exception_ptr error;
+
+    auto worker = [&]() {
+        ChunkGeometry g;
+        std::vector<Hit> hits;
+        for (;;) {
+            std::uint64_t c;
+            {
+                std::unique_lock lk(mu);
+                cv_space.wait(lk, [&] { return abort || next >= chunks || next < written + window; });
+                if (abort || next >= chunks) return;
+                if (stop && stop->load()) {
+                    abort = true;
+                    cv_done.notify_all();
+                    return;
+                }
+                c = next++;
+            }
+            auto result = std::make_unique<ChunkResult>();
+            try {
+                const std::uint64_t first = c * chunk;
+                const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, total - first));
+                builder.build(first, n, g);
+                hits.resize(g.rays.size());
+                renderer.intersect(g.rays, hits);
+                shader.shade(first, g, hits, builder.subrays(), *result);
+            } catch (...) {
+                std::lock_guard lk(mu);
+                if (!error) error = std::current_exception();
+                abort = true;
+                cv_done.notify_all();
+                cv_space.notify_all();
+                return;
+            }
+            std::lock_guard lk(mu);
+            const std::uint64_t k = c - written;
+            if (slots.size() <= k) slots.resize(k + 1);
+            slots[k] = std::move(result);
+            cv_done.notify_all();
+        }
+    };
+
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(threads));
+    for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+
+    RenderStats stats;
+    for (;;) {
+        std::unique_ptr<ChunkResult> ready;
+        {
+            std::unique_lock lk(mu);
+            cv_done.wait(lk, [&] {
+                return written >= chunks || (!slots.empty() && slots.front()) ||
+                       (abort && (slots.empty() || !slots.front()));
+            });
+            if (written >= chunks) break;
+            if (slots.empty() || !slots.front()) break;   // aborted and nothing ready in order
+            ready = std::move(slots.front());
+            slots.pop_front();
+        }
+        try {
+            sink.write(ready->points);
+        } catch (...) {
+            std::lock_guard lk(mu);
+            if (!error) error = std::current_exception();
+            abort = true;
+            cv_space.notify_all();
+            break;
+        }
+        accumulate(stats, ready->stats);
+        {
+            std::lock_guard lk(mu);
+            ++written;
+        }
+        cv_space.notify_all();
+        if (progress) {
+            stats.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            progress(stats);
+        }
+    }
+    {
+        std::lock_guard lk(mu);
+        abort = true;
+    }
+    cv_space.notify_all();
+    for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return stats;
+}
+
+}  // namespace mirage::render

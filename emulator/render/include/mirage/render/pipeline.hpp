@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "mirage/core/point.hpp"
 #include "mirage/core/pose.hpp"
@@ -53,5 +54,16 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                    const core::Mount& mount, const physics::Environment& env,
                    const RenderOptions& opt, PointSink& sink, const ProgressFn& progress = {},
                    const std::atomic<bool>* stop = nullptr);
+
+}  // namespace mirage::render
+
+namespace mirage::render {
+
+// The rays the pipeline traces for pulses [first, first + n), in its tracing order (one channel
+// over neighbouring firing groups, sub-rays adjacent). Used by the benchmark to time the bare
+// Embree ceiling on exactly the pipeline's rays.
+std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
+                               const core::Mount& mount, core::GpsTime start, std::uint64_t first,
+                               std::size_t n);
 
 }  // namespace mirage::render

@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mirage::hil {
+
+struct ThroughputRow {
+    std::string sensor;
+    int sub_rays = 1;
+    std::uint64_t pulses = 0, points = 0;
+    double real_pulse_rate = 0;
+    double pipeline_pulses_per_s = 0, pipeline_points_per_s = 0;
+    double ceiling_pulses_per_s = 0, ceiling_rays_per_s = 0;
+    double ratio() const { return ceiling_pulses_per_s > 0 ? pipeline_pulses_per_s / ceiling_pulses_per_s : 0; }
+    double x_real_time() const { return real_pulse_rate > 0 ? pipeline_pulses_per_s / real_pulse_rate : 0; }
+};
+
+struct ErrorRow {
+    int sub_rays = 1;
+    std::string quality;
+    double seconds = 0, reference_seconds = 0;
+    double range_rms_m = 0, intensity_rms = 0, presence_mismatch = 0;
+};
+
+struct BenchReport {
+    std::string machine;
+    double scene_seconds = 0, bvh_build_seconds = 0;
+    std::uint64_t triangles_placed = 0, unique_triangles = 0, bvh_bytes = 0;
+    std::vector<ThroughputRow> throughput;
+    double las_points_per_s = 0, las_mb_per_s = 0;
+    std::uint64_t las_points = 0;
+    std::vector<ErrorRow> errors;
+};
+
+// CPU model, cores, threads used, Embree version.
+std::string machine_description(int threads);
+// report.md, report.json and time_vs_error.svg in `dir`.
+void write_reports(const BenchReport& r, const std::string& dir);
+
+}  // namespace mirage::hil

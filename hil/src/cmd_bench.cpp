@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: Apache-2.0
+// `mirage bench`: throughput of the whole pipeline against the bare Embree ceiling on the same
+// rays, BVH build and memory, LAS write rate, and run time against error.
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+#include <unordered_map>
+
+#include "bench_report.hpp"
+#include "commands.hpp"
+#include "job.hpp"
+#include "las_sink.hpp"
+#include "mirage/las/las_writer.hpp"
+
+namespace mirage::hil {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Bare Embree on exactly the pipeline's rays: rays are generated per chunk outside the timed
+// region; only renderer.intersect is timed. Returns rays/s over `threads` threads.
+double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses, std::uint64_t& rays_out) {
+    const std::size_t group = std::max<std::uint32_t>(1, job.sensor.scan->group_size());
+    const std::size_t chunk = std::max<std::size_t>(group, 8192 / group * group);
+    const std::uint64_t chunks = (pulses + chunk - 1) / chunk;
+    std::atomic<std::uint64_t> next{0}, rays{0};
+    std::vector<double> busy(static_cast<std::size_t>(threads), 0.0);
+    std::vector<std::thread> pool;
+    for (int w = 0; w < threads; ++w) {
+        pool.emplace_back([&, w] {
+            std::vector<render::Hit> hits;
+            for (std::uint64_t c; (c = next++) < chunks;) {
+                const std::uint64_t first = c * chunk;
+                const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, pulses - first));
+                auto r = render::pipeline_rays(job.sensor, job.trajectory, job.mount, job.options.start, first, n);
+                hits.resize(r.size());
+                const auto t0 = Clock::now();
+                job.renderer->intersect(r, hits);
+                busy[static_cast<std::size_t>(w)] += seconds_since(t0);
+                rays += r.size();
+            }
+        });
+    }
+    for (auto& t : pool) t.join();
+    double total_busy = 0;
+    for (double b : busy) total_busy += b;
+    rays_out = rays.load();
+    // Wall time the intersect calls alone would take on `threads` threads.
+    const double wall = total_busy / threads;
+    return wall > 0 ? double(rays_out) / wall : 0.0;
+}
+
+struct PipelineRun {
+    render::RenderStats stats;
+};
+
+PipelineRun run_pipeline_to_null(Job& job, const std::string& null_path) {
+    las::LasWriter writer(null_path, job.scene->georef);
+    LasSink sink(writer);
+    PipelineRun r;
+    r.stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount, job.env,
+                             job.options, sink);
+    writer.close();
+    return r;
+}
+
+// Per-pulse first-return range and intensity, for error against a reference.
+struct Sample {
+    float range;
+    std::uint16_t intensity;
+};
+class KeepSink : public render::PointSink {
+public:
+    void write(std::span<const core::PointRecord> pts) override {
+        for (const auto& p : pts)
+            if (p.return_number == 1) by_pulse.emplace(p.pulse, Sample{p.range_m, p.intensity});
+    }
+    std::unordered_map<std::uint64_t, Sample> by_pulse;
+};
+
+}  // namespace
+
+void register_bench(CLI::App& app) {
+    auto* cmd = app.add_subcommand("bench", "Benchmark: pipeline vs Embree ceiling, BVH, LAS rate, time vs error");
+    struct Opts {
+        std::string out_dir = "bench-results";
+        int threads = 0;
+        std::string seconds = "0.5";     // simulated seconds per throughput configuration
+        bool quick = false;
+    };
+    auto o = std::make_shared<Opts>();
+    cmd->add_option("--out-dir", o->out_dir, "Where report.md, report.json and time_vs_error.svg go")
+        ->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+    cmd->add_option("--seconds", o->seconds, "Simulated seconds per throughput run")->capture_default_str();
+    cmd->add_flag("--quick", o->quick, "Short run for CI (small durations, fewer settings)");
+    cmd->callback([o] {
+        const int threads = o->threads > 0 ? o->threads : static_cast<int>(std::thread::hardware_concurrency());
+        std::filesystem::create_directories(o->out_dir);
+        BenchReport report;
+        report.machine = machine_description(threads);
+        const std::string sim = o->quick ? "0.05" : o->seconds;
+
+        // Scene and BVH once.
+        double scene_s = 0;
+        const auto town = load_scene_timed("demo", scene_s);
+        report.scene_seconds = scene_s;
+        report.triangles_placed = town->placed_triangle_count();
+        JobInputs base;
+        base.scene = "demo";
+        base.threads = threads;
+        Job shared = load_job_with_scene(base, town, scene_s);
+        const auto& bs = shared.renderer->build_stats();
+        report.bvh_build_seconds = bs.build_seconds;
+        report.bvh_bytes = bs.bvh_bytes;
+        report.unique_triangles = bs.triangles;
+        fmt::print("demo town: {} placed / {} stored triangles, scene {:.2f} s, BVH {:.3f} s, {:.1f} MB "
+                   "({:.1f} B per stored triangle)\n",
+                   bs.placed_triangles, bs.triangles, scene_s, bs.build_seconds, double(bs.bvh_bytes) / 1e6,
+                   double(bs.bvh_bytes) / double(std::max<std::uint64_t>(1, bs.triangles)));
+
+        struct Config {
+            const char* sensor;
+            const char* trajectory;
+        };
+        const Config configs[] = {{"vlp16", "demo-car"}, {"hdl64e-s3", "demo-car"}, {"als-mirror", "demo-flight"}};
+        const int sub_rays[] = {1, 7, 19};
+        for (const auto& c : configs) {
+            for (int s : sub_rays) {
+                if (o->quick && s == 19) continue;
+                JobInputs in = base;
+                in.sensor = c.sensor;
+                in.trajectory = c.trajectory;
+                in.duration = sim;
+                in.sub_rays = s;
+                Job job = load_job_with_scene(in, town, scene_s, false);
+                job.renderer = std::move(shared.renderer);
+                const std::uint64_t pulses = job.sensor.scan->pulse_count(job.options.duration);
+                ThroughputRow row;
+                row.sensor = c.sensor;
+                row.sub_rays = s;
+                row.pulses = pulses;
+                row.real_pulse_rate = job.sensor.scan->pulse_rate_hz();
+                std::uint64_t rays = 0;
+                const double ceiling_rays = ceiling_rays_per_s(job, threads, pulses, rays);
+                row.ceiling_pulses_per_s = ceiling_rays / double(std::max<std::uint64_t>(1, rays)) * double(pulses);
+                row.ceiling_rays_per_s = ceiling_rays;
+                const auto run = run_pipeline_to_null(job, "/dev/null");
+                row.pipeline_pulses_per_s = double(run.stats.pulses) / run.stats.seconds;
+                row.pipeline_points_per_s = double(run.stats.points) / run.stats.seconds;
+                row.points = run.stats.points;
+                report.throughput.push_back(row);
+                fmt::print("{:>11} sub-rays {:>2}: pipeline {:6.2f} M pulses/s ({:6.2f} M points/s) | ceiling "
+                           "{:6.2f} M pulses/s ({:6.1f} M rays/s) | ratio {:.2f} | {:6.1f}x real time\n",
+                           c.sensor, s, row.pipeline_pulses_per_s / 1e6, row.pipeline_points_per_s / 1e6,
+                           row.ceiling_pulses_per_s / 1e6, ceiling_rays / 1e6, row.ratio(), row.x_real_time());
+                shared.renderer = std::move(job.renderer);
+            }
+        }
+
+        // LAS write rate to a real file.
+        {
+            const std::uint64_t n = o->quick ? 500'000 : 5'000'000;
+            std::vector<core::PointRecord> pts(65536);
+            for (std::size_t i = 0; i < pts.size(); ++i) {
+                pts[i].x = double(i % 1000);
+                pts[i].y = double(i / 1000);
+                pts[i].z = 1.5;
+                pts[i].intensity = static_cast<std::uint16_t>(i);
+            }
+            const auto path = (std::filesystem::path(o->out_dir) / "las_rate.las").string();
+            const auto t0 = Clock::now();
+            {
+                las::LasWriter w(path, shared.scene->georef);
+                for (std::uint64_t done = 0; done < n; done += pts.size()) w.write(pts);
+                w.close();
+            }
+            const double secs = seconds_since(t0);
+            report.las_points = (n + pts.size() - 1) / pts.size() * pts.size();
+            report.las_points_per_s = double(report.las_points) / secs;
+            report.las_mb_per_s = double(std::filesystem::file_size(path)) / secs / 1e6;
+            std::filesystem::remove(path);
+            fmt::print("LAS write (format 6, to a file): {:.2f} M points/s, {:.0f} MB/s\n",
+                       report.las_points_per_s / 1e6, report.las_mb_per_s);
+        }
+
+        // Run time against error: VLP-16 on the car drive, noise off, against a high-fidelity
+        // reference (37 sub-rays, HIGH BVH).
+        {
+            const std::string err_sim = o->quick ? "0.05" : "0.3";
+            auto render_keep = [&](int s, const std::string& quality, double& secs) {
+                JobInputs in = base;
+                in.sensor = "vlp16";
+                in.trajectory = "demo-car";
+                in.duration = err_sim;
+                in.sub_rays = s;
+                in.no_noise = true;
+                in.quality = quality;
+                Job job = load_job_with_scene(in, town, scene_s, true);
+                KeepSink keep;
+                const auto st = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
+                                               job.env, job.options, keep);
+                secs = st.seconds;
+                return keep;
+            };
+            double ref_secs = 0;
+            const KeepSink ref = render_keep(37, "high", ref_secs);
+            const char* qualities[] = {"low", "medium", "high"};
+            for (int s : {1, 7, 19}) {
+                for (const char* q : qualities) {
+                    if (o->quick && std::string(q) != "medium") continue;
+                    ErrorRow e;
+                    e.sub_rays = s;
+                    e.quality = q;
+                    const KeepSink got = render_keep(s, q, e.seconds);
+                    double sr = 0, si = 0;
+                    std::uint64_t both = 0, differ = 0;
+                    for (const auto& [pulse, r] : ref.by_pulse) {
+                        const auto it = got.by_pulse.find(pulse);
+                        if (it == got.by_pulse.end()) {
+                            ++differ;
+                            continue;
+                        }
+                        const double dr = double(it->second.range) - double(r.range);
+                        const double di = double(it->second.intensity) - double(r.intensity);
+                        sr += dr * dr;
+                        si += di * di;
+                        ++both;
+                    }
+                    for (const auto& [pulse, r] : got.by_pulse)
+                        if (!ref.by_pulse.count(pulse)) ++differ;
+                    e.range_rms_m = both ? std::sqrt(sr / double(both)) : 0.0;
+                    e.intensity_rms = both ? std::sqrt(si / double(both)) : 0.0;
+                    e.presence_mismatch = double(differ) / double(std::max<std::size_t>(1, ref.by_pulse.size()));
+                    e.reference_seconds = ref_secs;
+                    report.errors.push_back(e);
+                    fmt::print("error vs reference: sub-rays {:>2}, BVH {:>6}: {:.3f} s, range RMS {:.4f} m, "
+                               "intensity RMS {:.1f}, return presence differs {:.2f} %\n",
+                               s, q, e.seconds, e.range_rms_m, e.intensity_rms, 100.0 * e.presence_mismatch);
+                }
+            }
+        }
+        write_reports(report, o->out_dir);
+        fmt::print("reports: {}/report.md, report.json, time_vs_error.svg\n", o->out_dir);
+    });
+}
+
+}  // namespace mirage::hil

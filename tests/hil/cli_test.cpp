@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cli_run.hpp"
+#include "mirage/las/las_reader.hpp"
+#include "test_paths.hpp"
+
+namespace mirage::test {
+namespace {
+
+TEST(Cli, every_subcommand_has_help) {
+    for (const char* sub : {"render", "demo", "bench", "las-info", "sensors"}) {
+        const auto r = run_mirage(std::string(sub) + " --help");
+        EXPECT_EQ(r.exit_code, 0) << sub;
+        EXPECT_NE(r.output.find("Usage"), std::string::npos) << sub << ": " << r.output;
+    }
+    EXPECT_NE(run_mirage("").exit_code, 0);
+}
+
+TEST(Cli, render_writes_a_valid_las_with_a_summary) {
+    TempDir tmp;
+    const auto out = tmp.file("a.las");
+    const auto r = run_mirage("render --scene demo --sensor vlp16 --trajectory demo-car --duration 0.2 --out " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("pulses"), std::string::npos);
+    EXPECT_NE(r.output.find("voids"), std::string::npos);
+    const auto f = las::LasFile::read(out);
+    EXPECT_TRUE(f.validate().empty());
+    EXPECT_GT(f.header().point_count, 20'000u);
+    EXPECT_EQ(f.header().point_format, 6);
+    EXPECT_FALSE(f.header().wkt.empty());
+    const auto info = run_mirage("las-info " + out);
+    EXPECT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_NE(info.output.find("valid"), std::string::npos);
+}
+
+TEST(Cli, bad_inputs_fail_with_a_clear_message_and_nonzero_exit) {
+    TempDir tmp;
+    const auto out = tmp.file("b.las");
+    auto r = run_mirage("render --scene no_such_scene.yaml --sensor vlp16 --out " + out);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("no_such_scene.yaml"), std::string::npos) << r.output;
+    r = run_mirage("render --scene demo --sensor no-such-sensor --out " + out);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("no-such-sensor"), std::string::npos) << r.output;
+    r = run_mirage("render --scene demo --sensor vlp16 --duration abc --out " + out);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("--duration"), std::string::npos) << r.output;
+    r = run_mirage("render --scene demo --sensor vlp16 --format 5 --out " + out);
+    EXPECT_NE(r.exit_code, 0);
+    r = run_mirage("render --scene demo --sensor vlp16 --duration 0.01 --out /nonexistent-dir/x.las");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("/nonexistent-dir/x.las"), std::string::npos) << r.output;
+    // las-info on a file that is not LAS.
+    const auto junk = tmp.file("junk.las");
+    std::ofstream(junk) << "not a las file at all";
+    r = run_mirage("las-info " + junk);
+    EXPECT_NE(r.exit_code, 0);
+}
+
+}  // namespace
+}  // namespace mirage::test

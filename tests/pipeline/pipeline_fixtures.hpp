@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: Apache-2.0
+// Small scenes, scan patterns and sinks for pipeline tests.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "mirage/render/embree_renderer.hpp"
+#include "mirage/render/pipeline.hpp"
+#include "mirage/scene/scene.hpp"
+#include "mirage/sensor/sensor.hpp"
+
+namespace mirage::test {
+
+// Pulse k fires direction dirs[k % n] at t = k · period.
+class FanPattern : public sensor::ScanPattern {
+public:
+    FanPattern(std::vector<Eigen::Vector3f> dirs, std::int64_t period_ns)
+        : dirs_(std::move(dirs)), period_ns_(period_ns) {}
+    std::string kind() const override { return "fan"; }
+    std::uint64_t pulse_count(core::Nanos d) const override {
+        return static_cast<std::uint64_t>((d.count() + period_ns_ - 1) / period_ns_);
+    }
+    void pulses(std::uint64_t first, std::size_t n, sensor::PulseSpec* out) const override {
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint64_t k = first + i;
+            out[i] = {};
+            out[i].t_ns = static_cast<std::int64_t>(k) * period_ns_;
+            out[i].dir = dirs_[k % dirs_.size()];
+            out[i].channel = static_cast<std::uint16_t>(k % dirs_.size());
+        }
+    }
+    double pulse_rate_hz() const override { return 1e9 / double(period_ns_); }
+    std::uint32_t channels() const override { return static_cast<std::uint32_t>(dirs_.size()); }
+    std::uint32_t group_size() const override { return 1; }
+
+private:
+    std::vector<Eigen::Vector3f> dirs_;
+    std::int64_t period_ns_;
+};
+
+// A sensor with the given pattern: strong enough that nothing is void unless a test wants it.
+inline sensor::SensorModel test_sensor(std::shared_ptr<const sensor::ScanPattern> scan) {
+    sensor::SensorModel s;
+    s.name = "test";
+    s.scan = std::move(scan);
+    s.beam.pulse_energy_j = 1e-5;
+    s.beam.divergence_rad = 1e-3;
+    s.receiver.min_range_m = 0.05;
+    s.receiver.max_range_m = 2500.0;
+    s.receiver.threshold_gamma = 1.0;
+    return s;
+}
+
+// Square of side `size` centred at the origin in the plane z = 0 of `frame`.
+inline scene::Mesh quad(double size, const Eigen::Affine3d& frame) {
+    scene::Mesh m;
+    m.name = "quad";
+    const double h = size / 2;
+    for (auto [x, y] : {std::pair{-h, -h}, {h, -h}, {h, h}, {-h, h}})
+        m.vertices.push_back((frame * Eigen::Vector3d(x, y, 0)).cast<float>());
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.materials = {0, 0};
+    return m;
+}
+
+inline scene::Scene plane_scene(double size, const Eigen::Affine3d& frame, double reflectance = 0.5) {
+    scene::Scene s;
+    scene::Material m;
+    m.name = "grey";
+    m.reflectance = reflectance;
+    m.classification = 2;
+    s.add_material(m);
+    s.add_mesh(quad(size, frame));
+    return s;
+}
+
+class VectorSink : public render::PointSink {
+public:
+    void write(std::span<const core::PointRecord> p) override { points.insert(points.end(), p.begin(), p.end()); }
+    std::vector<core::PointRecord> points;
+};
+
+// Streams points to a callback without keeping them (1e6-sample statistics).
+class CallbackSink : public render::PointSink {
+public:
+    explicit CallbackSink(std::function<void(const core::PointRecord&)> f) : f_(std::move(f)) {}
+    void write(std::span<const core::PointRecord> p) override {
+        for (const auto& x : p) f_(x);
+    }
+
+private:
+    std::function<void(const core::PointRecord&)> f_;
+};
+
+inline Eigen::Vector3f unit(double x, double y, double z) { return Eigen::Vector3d(x, y, z).normalized().cast<float>(); }
+
+}  // namespace mirage::test
