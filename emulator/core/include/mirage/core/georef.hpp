@@ -2,6 +2,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace mirage::core {
 
@@ -9,8 +10,11 @@ namespace mirage::core {
 // Geometry and poses are float32/double *relative to the anchor* ("local" frame, metres,
 // x = grid east, y = grid north, z = up), which keeps float32 geometry within ~1 km of zero
 // however large the projected coordinates are (physics.md §4.8).
-// A geodetic anchor (lat/lon/h) is converted once to its UTM zone (EPSG 326xx/327xx) unless an
-// EPSG code is given. A scene without a georeference uses EPSG 0 and anchor (0, 0, 0).
+// A geodetic anchor (lat/lon/h) is converted once to its UTM zone (EPSG 326xx/327xx, with the
+// Norway/Svalbard exceptions; UPS 32661/32761 beyond 84°N / 80°S) unless an EPSG code is given.
+// Heights stay ellipsoidal (WGS84, EPSG:4979) for 2-D projected CRSs.
+// Errors: ConfigError "georef: EPSG:<n>: <reason>" for unknown or non-projected codes.
+// A scene without a georeference uses EPSG 0 and anchor (0, 0, 0).
 // Load-time only (PROJ calls); not for per-pulse use.
 class Georef {
 public:
@@ -27,6 +31,10 @@ public:
     Eigen::Vector3d local_from_world(const Eigen::Vector3d& world) const { return world - anchor_; }
     // WGS84 geodetic (degrees, ellipsoidal height) -> local. Throws ConfigError without a CRS.
     Eigen::Vector3d local_from_geodetic(double lat_deg, double lon_deg, double h_m) const;
+    // Many points with one PROJ setup (each single call builds its own, ~10 ms): elements are
+    // (lat_deg, lon_deg, h_m). Used by load_trajectory_csv.
+    std::vector<Eigen::Vector3d> local_from_geodetic(
+        const std::vector<Eigen::Vector3d>& lat_lon_h) const;
     // Local -> WGS84 geodetic (lat, lon in degrees, h in m).
     Eigen::Vector3d geodetic_from_local(const Eigen::Vector3d& local) const;
     // OGC WKT (WKT1 as LAS 1.4 readers expect) of the CRS, from PROJ; empty without a CRS.

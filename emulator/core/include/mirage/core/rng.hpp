@@ -17,9 +17,10 @@ public:
     PulseRng(std::uint64_t seed, std::uint64_t pulse, std::uint32_t stream = 0)
         : key_{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)},
           pulse_(pulse), stream_(stream) {}
-    // Uniform in (0, 1), never 0 or 1.
+    // Uniform in (0, 1), never 0 or 1: one 32-bit Philox word u as (u + 0.5)·2⁻³².
+    // Counter = {pulse lo, pulse hi, stream, block}; key = seed; 4 uniforms per block.
     double uniform();
-    // Standard normal (Box–Muller on two uniforms).
+    // Standard normal (Box–Muller on two uniforms; the second value is cached for the next call).
     double normal();
 
 private:

@@ -2,7 +2,9 @@
 #pragma once
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 
 namespace mirage::core {
 
@@ -28,7 +30,8 @@ int leap_seconds_at_utc(std::int64_t unix_seconds);
 // GPS − UTC in seconds at a GPS instant.
 int leap_seconds_at_gps(GpsTime t);
 
-// UTC (Unix ns, POSIX: leap seconds not counted) <-> GPS time.
+// UTC (Unix ns, POSIX: leap seconds not counted) <-> GPS time. An inserted leap second
+// (23:59:60) has no POSIX number; unix_ns_from_gps maps it onto the following 00:00:00.
 GpsTime gps_from_unix_ns(std::int64_t unix_ns);
 std::int64_t unix_ns_from_gps(GpsTime t);
 
@@ -45,7 +48,15 @@ GpsTime from_week_time(std::int32_t week, std::int64_t ns_of_week);
 double adjusted_standard_gps_seconds(GpsTime t);
 
 // Parses "2024-01-01T00:00:00Z" / "2024-01-01 00:00:00" (UTC) or "gps:<seconds>" into GPS time.
-// Throws ConfigError naming the text.
+// UTC forms take an optional fraction of up to 9 digits ("...:00.123456789Z"), read exactly,
+// and second 60 at an inserted leap second. Throws ConfigError naming the text.
 GpsTime parse_time(const std::string& text);
+
+// Exact decimal seconds -> ns: "[-]digits[.digits]" with at most 9 significant decimal places
+// (further digits must be zeros). No exponent, no float rounding. nullopt on anything else
+// or on int64 overflow. "1388534418.000000123" -> 1388534418000000123 ns.
+std::optional<Nanos> parse_decimal_seconds(std::string_view text);
+// Inverse of parse_decimal_seconds: "<seconds>.<9 digits>", exact ("-0.500000000" for −0.5 s).
+std::string format_decimal_seconds(Nanos d);
 
 }  // namespace mirage::core

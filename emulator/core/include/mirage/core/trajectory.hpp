@@ -10,12 +10,16 @@ namespace mirage::core {
 
 enum class Interpolation { Linear, Cubic };
 
-// Platform poses over time. Position: linear or cubic (Catmull-Rom / Hermite on the samples);
+// Platform poses over time. Position: linear or cubic (Hermite; interior tangents are the
+// derivative of the parabola through three neighbouring samples, which is Catmull-Rom for even
+// spacing and exact for quadratic motion; end tangents are second-order one-sided differences);
 // attitude: quaternion slerp along the shortest arc (never linear Euler angles, so yaw wraps
 // through ±180° correctly). Outside [begin, end] the end pose is held. Thread-safe for reads.
 class Trajectory {
 public:
     static Trajectory fixed(const Pose& pose);
+    // Throws ConfigError ("trajectory: ...") on no samples, non-increasing times, or a zero /
+    // non-finite attitude. Attitudes are normalised and flipped into one hemisphere.
     Trajectory(std::vector<StampedPose> samples, Interpolation interp = Interpolation::Linear);
 
     Pose at(GpsTime t) const;
@@ -26,11 +30,13 @@ public:
     GpsTime end() const;
     bool is_fixed() const { return samples_.size() == 1; }
     const std::vector<StampedPose>& samples() const { return samples_; }
+    Interpolation interpolation() const { return interp_; }
 
 private:
     Trajectory() = default;
     std::vector<StampedPose> samples_;
     Interpolation interp_ = Interpolation::Linear;
+    std::vector<Eigen::Vector3d> tangents_;  // Cubic only: dp/dt at each sample, m/s
 };
 
 // CSV trajectory (see README "Trajectory CSV"): a header row naming columns, then one row per
@@ -38,9 +44,16 @@ private:
 // Position: `x,y,z` (local metres), `e,n,u` (projected, minus the anchor), or `lat,lon,h`
 // (WGS84 degrees / m, through the scene georeference). Attitude: `roll,pitch,yaw` in degrees
 // (R = Rz(yaw)·Ry(pitch)·Rx(roll), FLU body, ENU world) or `qw,qx,qy,qz`.
-// Throws ConfigError naming the file, line and column on any malformed value, NaN, or
-// non-increasing time.
+// Lines starting with '#' and blank lines are skipped; names and values may be padded with
+// spaces. Throws ConfigError "trajectory '<path>': line N, column '<name>': <problem>" on any
+// malformed value, NaN/Inf, missing/unknown/duplicate column, non-increasing time, or no rows;
+// IoError if the file cannot be read.
 Trajectory load_trajectory_csv(const std::string& path, const Georef& georef,
                                Interpolation interp = Interpolation::Linear);
+
+// Writes the samples as `time,x,y,z,qw,qx,qy,qz` (GPS seconds with exact ns, local metres,
+// shortest round-trip decimals), which load_trajectory_csv reads back bit-exactly.
+// Throws IoError if the file cannot be written.
+void save_trajectory_csv(const std::string& path, const Trajectory& trajectory);
 
 }  // namespace mirage::core
