@@ -1,1 +1,403 @@
-// placeholder: being written
+// SPDX-License-Identifier: Apache-2.0
+#include "mirage/las/las_writer.hpp"
+
+#include <fcntl.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <vector>
+
+#include "las_layout.hpp"
+#include "mirage/core/error.hpp"
+#include "mirage/core/time.hpp"
+#include "signal_registry.hpp"
+
+namespace mirage::las {
+namespace {
+
+using namespace layout;
+
+constexpr double kOffsetGrid_m = 1000.0;
+constexpr double kScanAngleUnit_deg = 0.006;  // formats 6–10 (Table 13)
+
+struct Stats {
+    std::uint64_t count = 0;
+    std::array<std::uint64_t, 15> by_return{};
+    std::array<std::int32_t, 3> min{std::numeric_limits<std::int32_t>::max(),
+                                    std::numeric_limits<std::int32_t>::max(),
+                                    std::numeric_limits<std::int32_t>::max()};
+    std::array<std::int32_t, 3> max{std::numeric_limits<std::int32_t>::min(),
+                                    std::numeric_limits<std::int32_t>::min(),
+                                    std::numeric_limits<std::int32_t>::min()};
+};
+
+void put_text(std::uint8_t* p, std::size_t n, const std::string& s) {
+    std::memset(p, 0, n);
+    std::memcpy(p, s.data(), std::min(n, s.size()));
+}
+
+// Full positional write; returns the bytes written and sets err on failure. Signal-safe.
+std::size_t pwrite_all(int fd, const std::uint8_t* data, std::size_t n, off_t pos,
+                       int& err) noexcept {
+    std::size_t done = 0;
+    err = 0;
+    while (done < n) {
+        const ssize_t w = ::pwrite(fd, data + done, n - done, pos + static_cast<off_t>(done));
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            err = errno;
+            break;
+        }
+        if (w == 0) {
+            err = EIO;
+            break;
+        }
+        done += static_cast<std::size_t>(w);
+    }
+    return done;
+}
+
+}  // namespace
+
+struct LasWriter::Impl {
+    struct Snapshot {
+        std::array<std::uint8_t, kHeaderSize14> header{};
+        off_t size = 0;
+    };
+
+    std::string path;
+    LasWriterOptions opt;
+    std::atomic<int> fd{-1};  // read by the signal handler, possibly on another thread
+    bool registered = false;
+    std::uint16_t record_length = 0;
+    std::uint8_t return_mask = 0;
+    std::uint32_t data_offset = 0;
+    std::array<double, 3> offset{};
+    std::array<double, 3> shift{};  // anchor − offset: small, exact, added before dividing
+    std::array<std::uint8_t, kHeaderSize14> header_template{};
+    std::vector<std::uint8_t> buffer;
+    std::size_t used = 0;
+    Stats flushed;
+    std::uint64_t buffered_points = 0, rejected = 0, remapped = 0;
+    // Double-buffered header images: the signal handler reads the published one while the
+    // writer prepares the other, so it always sees a complete header matching `size`.
+    std::array<Snapshot, 2> snapshots{};
+    std::atomic<int> published{0};
+
+    std::string prefix() const { return "las writer '" + path + "': "; }
+
+    void open(const std::string& p, const core::Georef& georef, LasWriterOptions o);
+    bool quantise(double local, int axis, std::int32_t& out) const noexcept;
+    bool encode(const core::PointRecord& p, std::uint8_t* r) noexcept;
+    void accumulate(const std::uint8_t* records, std::size_t n) noexcept;
+    void build_header(const Stats& s, std::uint8_t* out) const noexcept;
+    void publish() noexcept;
+    void flush();
+    [[noreturn]] void fail(int err);
+    void release() noexcept;
+};
+
+void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, LasWriterOptions o) {
+    path = p;
+    opt = std::move(o);
+    const std::uint8_t f = opt.point_format;
+    if (f != 1 && f != 3 && f != 6 && f != 7) {
+        throw ConfigError(prefix() + "point format " + std::to_string(f) +
+                          " not supported (1, 3, 6 or 7)");
+    }
+    if (!(opt.scale > 0.0) || !std::isfinite(opt.scale)) {
+        throw ConfigError(prefix() + "scale must be a positive number");
+    }
+    record_length = kRecordLengths[f];
+    return_mask = f < 6 ? 0x07 : 0x0F;
+    for (int a = 0; a < 3; ++a) {
+        const double anchor = georef.anchor()[a];
+        if (!std::isfinite(anchor)) throw ConfigError(prefix() + "anchor is not finite");
+        offset[a] = std::floor(anchor / kOffsetGrid_m) * kOffsetGrid_m;
+        shift[a] = anchor - offset[a];
+    }
+
+    std::vector<std::uint8_t> vlr;
+    if (georef.has_crs()) {
+        const std::string wkt = georef.wkt();
+        if (wkt.empty())
+            throw ConfigError(prefix() + "no WKT for EPSG " + std::to_string(georef.epsg()));
+        if (wkt.size() + 1 > std::numeric_limits<std::uint16_t>::max()) {
+            throw ConfigError(prefix() + "WKT longer than a VLR can hold");
+        }
+        vlr.assign(kVlrHeaderSize + wkt.size() + 1, 0);
+        put_text(vlr.data() + 2, 16, "LASF_Projection");
+        put_u16(vlr.data() + 18, kWktRecordId);
+        put_u16(vlr.data() + 20, static_cast<std::uint16_t>(wkt.size() + 1));
+        put_text(vlr.data() + 22, 32, "OGC WKT coordinate system");
+        std::memcpy(vlr.data() + kVlrHeaderSize, wkt.data(), wkt.size());
+    }
+    data_offset = static_cast<std::uint32_t>(kHeaderSize14 + vlr.size());
+
+    std::uint16_t encoding = kGlobalEncodingAdjustedGps;
+    if (georef.has_crs() || f >= 6) encoding |= kGlobalEncodingWkt;
+    std::uint8_t* h = header_template.data();
+    std::memcpy(h + kSignature, "LASF", 4);
+    put_u16(h + kFileSourceId, opt.file_source_id);
+    put_u16(h + kGlobalEncoding, encoding);
+    put_u8(h + kVersionMajor, 1);
+    put_u8(h + kVersionMinor, 4);
+    put_text(h + kSystemIdentifier, 32, opt.system_identifier);
+    put_text(h + kGeneratingSoftware, 32, opt.generating_software);
+    put_u16(h + kCreationDay, opt.creation_day);
+    put_u16(h + kCreationYear, opt.creation_year);
+    put_u16(h + kHeaderSize, static_cast<std::uint16_t>(kHeaderSize14));
+    put_u32(h + kOffsetToPoints, data_offset);
+    put_u32(h + kVlrCount, vlr.empty() ? 0u : 1u);
+    put_u8(h + kPointFormat, f);
+    put_u16(h + kRecordLength, record_length);
+    for (int a = 0; a < 3; ++a) {
+        put_f64(h + kScale + 8 * a, opt.scale);
+        put_f64(h + kOffset + 8 * a, offset[a]);
+    }
+
+    const std::size_t records = std::max<std::size_t>(1, opt.buffer_bytes / record_length);
+    buffer.assign(records * record_length, 0);
+
+    fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw IoError(prefix() + "cannot create: " + std::strerror(errno));
+    publish();
+    const auto& snap = snapshots[published.load(std::memory_order_relaxed)];
+    std::vector<std::uint8_t> head(snap.header.begin(), snap.header.end());
+    head.insert(head.end(), vlr.begin(), vlr.end());
+    int err = 0;
+    pwrite_all(fd, head.data(), head.size(), 0, err);
+    if (err != 0) {
+        ::close(fd);
+        fd = -1;
+        ::unlink(path.c_str());
+        throw IoError(prefix() + "cannot write header: " + std::strerror(err));
+    }
+}
+
+// Round to nearest (physics.md §3.3: truncation biases by up to a whole step) and refuse
+// anything that would not fit int32, including NaN.
+bool LasWriter::Impl::quantise(double local, int axis, std::int32_t& out) const noexcept {
+    const double q = (shift[axis] + local) / opt.scale;
+    if (!(q > -2147483648.5 && q < 2147483647.5)) return false;
+    out = static_cast<std::int32_t>(std::llround(q));
+    return true;
+}
+
+bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexcept {
+    std::int32_t x, y, z;
+    if (!quantise(p.x, 0, x) || !quantise(p.y, 1, y) || !quantise(p.z, 2, z)) return false;
+    put_i32(r + 0, x);
+    put_i32(r + 4, y);
+    put_i32(r + 8, z);
+    put_u16(r + 12, p.intensity);
+    const double gps = core::adjusted_standard_gps_seconds(p.t);
+    const auto flag = [](std::uint8_t v) { return static_cast<unsigned>(v != 0); };
+    const double angle = std::isfinite(p.scan_angle_deg) ? p.scan_angle_deg : 0.0;
+    if (opt.point_format < 6) {
+        // Table 8: return number 3 bits, number of returns 3 bits, scan direction, edge.
+        const unsigned rn = std::clamp<unsigned>(p.return_number, 1, 7);
+        const unsigned nr = std::clamp<unsigned>(p.number_of_returns, 1, 7);
+        r[14] = static_cast<std::uint8_t>(rn | nr << 3 | flag(p.scan_direction) << 6 |
+                                          flag(p.edge_of_flight_line) << 7);
+        std::uint8_t cls = p.classification;
+        if (cls > 31) {  // 5-bit field; the upper bits are synthetic/key-point/withheld flags
+            cls = 1;
+            ++remapped;
+        }
+        r[15] = cls;
+        r[16] = static_cast<std::uint8_t>(
+            static_cast<std::int8_t>(std::lround(std::clamp(angle, -90.0, 90.0))));
+        r[17] = 0;
+        put_u16(r + 18, p.point_source_id);
+        put_f64(r + 20, gps);
+        if (opt.point_format == 3) {
+            put_u16(r + 28, p.red);
+            put_u16(r + 30, p.green);
+            put_u16(r + 32, p.blue);
+        }
+    } else {
+        // Table 13: return number 4 bits, number of returns 4 bits; then classification
+        // flags (4), scanner channel (2, scanner head: always 0 here), scan direction, edge.
+        const unsigned rn = std::clamp<unsigned>(p.return_number, 1, 15);
+        const unsigned nr = std::clamp<unsigned>(p.number_of_returns, 1, 15);
+        r[14] = static_cast<std::uint8_t>(rn | nr << 4);
+        r[15] = static_cast<std::uint8_t>(flag(p.scan_direction) << 6 | flag(p.edge_of_flight_line)
+                                                                            << 7);
+        r[16] = p.classification;
+        r[17] = 0;
+        const double units = std::clamp(angle / kScanAngleUnit_deg, -30000.0, 30000.0);
+        put_i16(r + 18, static_cast<std::int16_t>(std::lround(units)));
+        put_u16(r + 20, p.point_source_id);
+        put_f64(r + 22, gps);
+        if (opt.point_format == 7) {
+            put_u16(r + 30, p.red);
+            put_u16(r + 32, p.green);
+            put_u16(r + 34, p.blue);
+        }
+    }
+    return true;
+}
+
+// Statistics from the encoded bytes, so a partial write accounts exactly for what hit disk.
+void LasWriter::Impl::accumulate(const std::uint8_t* records, std::size_t n) noexcept {
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::uint8_t* r = records + k * record_length;
+        for (int a = 0; a < 3; ++a) {
+            const std::int32_t v = get_i32(r + 4 * a);
+            flushed.min[a] = std::min(flushed.min[a], v);
+            flushed.max[a] = std::max(flushed.max[a], v);
+        }
+        ++flushed.by_return[(r[14] & return_mask) - 1u];
+    }
+    flushed.count += n;
+}
+
+void LasWriter::Impl::build_header(const Stats& s, std::uint8_t* out) const noexcept {
+    std::memcpy(out, header_template.data(), kHeaderSize14);
+    // Formats 0–5 must also fill the legacy fields when the count fits; 6–10 leave them 0.
+    const bool legacy =
+        opt.point_format < 6 && s.count <= std::numeric_limits<std::uint32_t>::max();
+    put_u32(out + kLegacyPointCount, legacy ? static_cast<std::uint32_t>(s.count) : 0u);
+    for (int i = 0; i < 5; ++i) {
+        put_u32(out + kLegacyByReturn + 4 * i,
+                legacy ? static_cast<std::uint32_t>(s.by_return[i]) : 0u);
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double hi = s.count ? offset[a] + s.max[a] * opt.scale : 0.0;
+        const double lo = s.count ? offset[a] + s.min[a] * opt.scale : 0.0;
+        put_f64(out + kMaxX + 16 * a, hi);
+        put_f64(out + kMaxX + 16 * a + 8, lo);
+    }
+    put_u64(out + kPointCount, s.count);
+    for (int i = 0; i < 15; ++i) put_u64(out + kByReturn + 8 * i, s.by_return[i]);
+}
+
+void LasWriter::Impl::publish() noexcept {
+    const int next = 1 - published.load(std::memory_order_relaxed);
+    build_header(flushed, snapshots[next].header.data());
+    snapshots[next].size =
+        static_cast<off_t>(data_offset + flushed.count * std::uint64_t{record_length});
+    published.store(next, std::memory_order_release);
+}
+
+void LasWriter::Impl::flush() {
+    if (used == 0) return;
+    const off_t end = static_cast<off_t>(data_offset + flushed.count * record_length);
+    int err = 0;
+    const std::size_t done = pwrite_all(fd, buffer.data(), used, end, err);
+    accumulate(buffer.data(), done / record_length);
+    if (err != 0) fail(err);
+    used = 0;
+    buffered_points = 0;
+    publish();
+    const auto& snap = snapshots[published.load(std::memory_order_relaxed)];
+    pwrite_all(fd, snap.header.data(), snap.header.size(), 0, err);
+    if (err != 0) fail(err);
+}
+
+// The whole records that reached the disk are already in `flushed`: cut the file after them,
+// make the header match, close, and report.
+void LasWriter::Impl::fail(int err) {
+    used = 0;
+    buffered_points = 0;
+    publish();
+    const auto& snap = snapshots[published.load(std::memory_order_relaxed)];
+    int repair_err = ::ftruncate(fd, snap.size) == 0 ? 0 : errno;
+    int header_err = 0;
+    pwrite_all(fd, snap.header.data(), snap.header.size(), 0, header_err);
+    if (repair_err == 0) repair_err = header_err;
+    const std::string n = std::to_string(flushed.count);
+    std::string msg = prefix() + std::strerror(err) + " after " + n + " points; file cut to " + n +
+                      " whole records";
+    if (repair_err != 0) msg += std::string(" (repair failed: ") + std::strerror(repair_err) + ")";
+    release();
+    throw IoError(msg);
+}
+
+void LasWriter::Impl::release() noexcept {
+    const int old = fd;
+    fd = -1;  // first, so a signal arriving now finds nothing to finalise
+    if (old >= 0) ::close(old);
+}
+
+LasWriter::LasWriter(const std::string& path, const core::Georef& georef, LasWriterOptions opt)
+    : impl_(new Impl) {
+    try {
+        impl_->open(path, georef, std::move(opt));
+    } catch (...) {
+        delete impl_;
+        throw;
+    }
+    impl_->registered = detail::register_writer(this);
+}
+
+LasWriter::~LasWriter() {
+    try {
+        close();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s\n", e.what());
+    }
+    if (impl_->registered) detail::unregister_writer(this);
+    delete impl_;
+}
+
+void LasWriter::write(std::span<const core::PointRecord> points) {
+    Impl& im = *impl_;
+    if (im.fd < 0) throw IoError(im.prefix() + "write after close or after a write error");
+    const std::size_t len = im.record_length;
+    for (const core::PointRecord& p : points) {
+        if (im.used + len > im.buffer.size()) im.flush();
+        if (im.encode(p, im.buffer.data() + im.used)) {
+            im.used += len;
+            ++im.buffered_points;
+        } else {
+            ++im.rejected;
+        }
+    }
+}
+
+void LasWriter::close() {
+    Impl& im = *impl_;
+    if (im.fd < 0) return;
+    im.flush();  // rewrites the header for everything on disk
+    // Unregister before closing the descriptor so the handler never touches a closed fd.
+    if (im.registered) {
+        detail::unregister_writer(this);
+        im.registered = false;
+    }
+    const int fd = im.fd;
+    im.fd = -1;
+    if (::close(fd) != 0) throw IoError(im.prefix() + "close: " + std::strerror(errno));
+}
+
+std::uint64_t LasWriter::points_written() const {
+    return impl_->flushed.count + impl_->buffered_points;
+}
+std::uint64_t LasWriter::points_flushed() const { return impl_->flushed.count; }
+std::uint64_t LasWriter::points_rejected() const { return impl_->rejected; }
+std::uint64_t LasWriter::classifications_remapped() const { return impl_->remapped; }
+const std::string& LasWriter::path() const { return impl_->path; }
+std::array<double, 3> LasWriter::offset() const { return impl_->offset; }
+
+void LasWriter::finalize_for_signal() noexcept {
+    const Impl& im = *impl_;
+    const int fd = im.fd;
+    if (fd < 0) return;
+    const auto& snap = im.snapshots[im.published.load(std::memory_order_acquire)];
+    int err = 0;
+    pwrite_all(fd, snap.header.data(), snap.header.size(), 0, err);
+    // Drops a partly written buffer beyond the last published flush.
+    const int cut = ::ftruncate(fd, snap.size);
+    (void)cut;
+}
+
+}  // namespace mirage::las

@@ -11,11 +11,15 @@
 namespace mirage::las {
 
 struct LasWriterOptions {
-    std::uint8_t point_format = 6;        // 1, 3 (LAS 1.2-compatible) or 6, 7
-    double scale = 0.001;                 // 1 mm
+    std::uint8_t point_format = 6;  // 1, 3 (LAS 1.2-compatible) or 6, 7
+    double scale = 0.001;           // 1 mm
     std::uint16_t file_source_id = 0;
     std::string system_identifier = "Mirage emulator";
     std::string generating_software = "mirage";
+    // Fixed creation date so the same points always give byte-identical files.
+    std::uint16_t creation_day = 1;  // day of year, 1-based
+    std::uint16_t creation_year = 2025;
+    std::size_t buffer_bytes = 1 << 20;  // pwrite(2) granularity; rounded down to whole records
 };
 
 // LAS 1.4 writer (hand-written: Debian 12 packages no LAS library). Points arrive in the
@@ -25,29 +29,46 @@ struct LasWriterOptions {
 // time (bit 0). The header (counts, counts by return, bounds) is rewritten on close() and
 // by finalize_for_signal(); on a write error (disk full) the file is cut to the last whole
 // record, the header is made to match it, and IoError is thrown naming the file.
+//
+// Offsets: per axis floor(anchor / 1 km) · 1 km, so the stored integers of points within
+// ±(2^31 · scale − 1 km) of the anchor fit (±2146 km at 1 mm). A point whose integer would not
+// fit, or that is not finite, is not written and is counted in points_rejected().
+// Formats 1/3 hold 5-bit classes: codes above 31 are written as 1 and counted.
+// Formats 6/7 always carry global-encoding bit 4: the spec makes WKT the only CRS form for
+// them and PDAL refuses such files without the bit, even when no CRS VLR follows.
+// Not thread-safe: one thread writes. Buffered (options.buffer_bytes) with pwrite(2); after
+// each buffer flush the on-disk header is updated, so the file is valid between flushes.
 class LasWriter {
-public:
+  public:
     LasWriter(const std::string& path, const core::Georef& georef, LasWriterOptions opt = {});
-    ~LasWriter();   // closes if still open; never throws
+    ~LasWriter();  // closes if still open; never throws
     LasWriter(const LasWriter&) = delete;
     LasWriter& operator=(const LasWriter&) = delete;
 
     void write(std::span<const core::PointRecord> points);
     void close();
+    // Points accepted (flushed or buffered). After a write error: the whole records on disk.
     std::uint64_t points_written() const;
+    std::uint64_t points_flushed() const;            // on disk, covered by the on-disk header
+    std::uint64_t points_rejected() const;           // not finite or outside int32 after offset
+    std::uint64_t classifications_remapped() const;  // formats 1/3: class > 31 written as 1
     const std::string& path() const;
+    std::array<double, 3> offset() const;  // LAS offset per axis (world units)
 
     // Async-signal-safe finalisation (pwrite of the header only): registered writers are
     // finalised by install_signal_finalizer()'s handler on SIGINT/SIGTERM before exit.
+    // Uses the header image of the last completed flush and cuts the file to match it.
     void finalize_for_signal() noexcept;
 
-private:
+  private:
     struct Impl;
     Impl* impl_;
 };
 
 // Installs SIGINT/SIGTERM handlers that finalise every open LasWriter and then re-raise the
-// signal with the default action (so the exit status reports it).
+// signal with the default action (so the exit status reports it). Up to 64 writers are
+// tracked at once; further writers still work but are not finalised by the handler.
+// Idempotent. Replaces any handler installed before for these two signals.
 void install_signal_finalizer();
 
 }  // namespace mirage::las

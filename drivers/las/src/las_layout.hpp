@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: Apache-2.0
+// Byte layout of LAS 1.4 (ASPRS LAS Specification 1.4 R15, §2.4 header, §2.5 VLR, §2.6
+// point data record formats) and little-endian accessors shared by the writer and reader.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+namespace mirage::las::layout {
+
+// Public header block field offsets (Table 3).
+inline constexpr std::size_t kSignature = 0;
+inline constexpr std::size_t kFileSourceId = 4;
+inline constexpr std::size_t kGlobalEncoding = 6;
+inline constexpr std::size_t kVersionMajor = 24;
+inline constexpr std::size_t kVersionMinor = 25;
+inline constexpr std::size_t kSystemIdentifier = 26;
+inline constexpr std::size_t kGeneratingSoftware = 58;
+inline constexpr std::size_t kCreationDay = 90;
+inline constexpr std::size_t kCreationYear = 92;
+inline constexpr std::size_t kHeaderSize = 94;
+inline constexpr std::size_t kOffsetToPoints = 96;
+inline constexpr std::size_t kVlrCount = 100;
+inline constexpr std::size_t kPointFormat = 104;
+inline constexpr std::size_t kRecordLength = 105;
+inline constexpr std::size_t kLegacyPointCount = 107;
+inline constexpr std::size_t kLegacyByReturn = 111;  // u32[5]
+inline constexpr std::size_t kScale = 131;           // f64[3]
+inline constexpr std::size_t kOffset = 155;          // f64[3]
+inline constexpr std::size_t kMaxX = 179;            // max x, min x, max y, min y, max z, min z
+inline constexpr std::size_t kWaveformStart = 227;   // 1.3+
+inline constexpr std::size_t kFirstEvlr = 235;       // 1.4
+inline constexpr std::size_t kEvlrCount = 243;
+inline constexpr std::size_t kPointCount = 247;  // u64
+inline constexpr std::size_t kByReturn = 255;    // u64[15]
+
+inline constexpr std::size_t kHeaderSize12 = 227;
+inline constexpr std::size_t kHeaderSize13 = 235;
+inline constexpr std::size_t kHeaderSize14 = 375;
+inline constexpr std::size_t kVlrHeaderSize = 54;
+
+inline constexpr std::uint16_t kGlobalEncodingAdjustedGps = 1u << 0;
+inline constexpr std::uint16_t kGlobalEncodingWkt = 1u << 4;
+inline constexpr std::uint16_t kWktRecordId = 2112;
+inline constexpr std::uint16_t kExtraBytesRecordId = 4;
+
+// Minimum record length of point formats 0–10 (Tables 7–17).
+inline constexpr std::array<std::uint16_t, 11> kRecordLengths = {20, 28, 26, 34, 57, 63,
+                                                                 30, 36, 38, 59, 67};
+
+inline void put_u8(std::uint8_t* p, std::uint8_t v) { p[0] = v; }
+inline void put_u16(std::uint8_t* p, std::uint16_t v) {
+    p[0] = static_cast<std::uint8_t>(v);
+    p[1] = static_cast<std::uint8_t>(v >> 8);
+}
+inline void put_u32(std::uint8_t* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+inline void put_u64(std::uint8_t* p, std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+inline void put_i16(std::uint8_t* p, std::int16_t v) { put_u16(p, static_cast<std::uint16_t>(v)); }
+inline void put_i32(std::uint8_t* p, std::int32_t v) { put_u32(p, static_cast<std::uint32_t>(v)); }
+inline void put_f64(std::uint8_t* p, double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    put_u64(p, bits);
+}
+
+inline std::uint16_t get_u16(const std::uint8_t* p) {
+    return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
+}
+inline std::uint32_t get_u32(const std::uint8_t* p) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+inline std::uint64_t get_u64(const std::uint8_t* p) {
+    std::uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+inline std::int16_t get_i16(const std::uint8_t* p) { return static_cast<std::int16_t>(get_u16(p)); }
+inline std::int32_t get_i32(const std::uint8_t* p) { return static_cast<std::int32_t>(get_u32(p)); }
+inline double get_f64(const std::uint8_t* p) {
+    std::uint64_t bits = get_u64(p);
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+}
+
+}  // namespace mirage::las::layout
