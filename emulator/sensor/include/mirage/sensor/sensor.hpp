@@ -96,6 +96,11 @@ SensorModel load_sensor_yaml(const std::string& path); // throws ConfigError wit
 // A preset name or a YAML path.
 SensorModel resolve_sensor(const std::string& spec);
 
+// Effective configuration, one value per line, plus a per-channel table that repeats the beam and
+// receiver values each channel uses (physics.md §3.5: overrides must reach every channel). Printed
+// by the CLI at start-up.
+std::string describe(const SensorModel& model);
+
 // Footprint sampling of the divergence cone: angular offsets (rad, about two axes orthogonal
 // to the beam) and weights (sum 1) from the beam profile. n = 1, 7, 19, 37 … (1 + 6 + 12 + …).
 struct SubRay {
@@ -103,5 +108,7 @@ struct SubRay {
     float weight = 1;
 };
 std::vector<SubRay> footprint(int n, BeamProfile profile, double divergence_rad);
+// True for the hexagonal counts footprint() accepts: 1 + 3·k·(k + 1), k ≥ 0.
+bool is_hex_count(int n);
 
 }  // namespace mirage::sensor

@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: Apache-2.0
+// Start-up print of the effective sensor configuration. Beam and receiver settings are resolved
+// once per sensor and shared by all channels; the per-channel table repeats them so a reader can
+// see every override reach every channel (physics.md §3.5).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "mirage/sensor/airborne.hpp"
+#include "mirage/sensor/presets.hpp"
+#include "mirage/sensor/sensor.hpp"
+#include "mirage/sensor/spinning.hpp"
+
+namespace mirage::sensor {
+namespace {
+
+std::string channel_tail(const SensorModel& m) {
+    return fmt::format(" | {:.1f} nm {:.3f} uJ {:.3f} mrad sub-rays {} range {:.2f}-{:.1f} m",
+                       m.beam.wavelength_m * 1e9, m.beam.pulse_energy_j * 1e6,
+                       m.beam.divergence_rad * 1e3, m.beam.sub_rays, m.receiver.min_range_m,
+                       m.receiver.max_range_m);
+}
+
+}  // namespace
+
+std::string describe(const SensorModel& m) {
+    const BeamParams& b = m.beam;
+    const ReceiverParams& rx = m.receiver;
+    std::string out;
+    const auto* spin = dynamic_cast<const SpinningPattern*>(m.scan.get());
+    const auto* air = dynamic_cast<const AirbornePattern*>(m.scan.get());
+    if (m.scan) {
+        out += fmt::format("sensor '{}': {}, {} channel(s), {:.0f} pulses/s, group {}\n", m.name,
+                           m.scan->kind(), m.scan->channels(), m.scan->pulse_rate_hz(),
+                           m.scan->group_size());
+    } else {
+        out += fmt::format("sensor '{}': no scan pattern\n", m.name);
+    }
+    if (spin) {
+        const auto& c = spin->config();
+        out += fmt::format(
+            "  scan: {:.1f} rpm ({:.3f} Hz), sequence {:.3f} us, azimuth step {:.5f} deg\n",
+            spin->rpm(), c.rotation_hz, c.sequence_period_ns * 1e-3, spin->azimuth_step_deg());
+    }
+    if (air) {
+        const auto& c = air->config();
+        out += fmt::format(
+            "  scan: {} {:.1f} kHz, scan rate {:.2f} Hz ({:.1f} lines/s), fov {:.2f} deg, "
+            "facets {}, tilt {:.2f} deg\n",
+            to_string(c.kind), c.prf_hz * 1e-3, c.scan_rate_hz, c.lines_per_s(), c.fov_deg,
+            c.facets, c.tilt_deg);
+    }
+    out += fmt::format(
+        "  beam: {:.1f} nm, {:.4f} uJ, {:.2f} ns (peak {:.1f} W), divergence {:.3f} mrad {}, "
+        "sub-rays {}, laser bandwidth {:.2f} nm\n",
+        b.wavelength_m * 1e9, b.pulse_energy_j * 1e6, b.pulse_width_s * 1e9,
+        b.pulse_width_s > 0 ? b.pulse_energy_j / b.pulse_width_s : 0.0, b.divergence_rad * 1e3,
+        b.profile == BeamProfile::Gaussian ? "gaussian" : "tophat", b.sub_rays,
+        b.laser_bandwidth_m * 1e9);
+    const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
+    const double ifov = pixel_d / (rx.f_number * rx.aperture_diameter_m);
+    const double per_sigma = noise_sigma_for_floor(1.0, b, rx);
+    out += fmt::format(
+        "  receiver: aperture {:.2f} mm f/{:.2f}, detector {:.5f} mm2 (IFOV {:.2f} mrad), "
+        "eta_t {:.2f}, eta_r {:.2f}, QE {:.2f}, filter {:.2f} nm, t_int {:.2f} ns, "
+        "sigma1 {:.4g} W/(m2 um) (floor {:.1f} e-), gamma {:.2f}, range {:.2f}-{:.1f} m, "
+        "resolution {:.4f} m, max returns {}\n",
+        rx.aperture_diameter_m * 1e3, rx.f_number, rx.detector_area_m2 * 1e6, ifov * 1e3,
+        rx.eta_transmitter, rx.eta_receiver, rx.quantum_efficiency, rx.detector_bandwidth_m * 1e9,
+        (rx.integration_time_s > 0 ? rx.integration_time_s : b.pulse_width_s) * 1e9,
+        rx.noise_irradiance_sigma, per_sigma > 0 ? rx.noise_irradiance_sigma / per_sigma : 0.0,
+        rx.threshold_gamma, rx.min_range_m, rx.max_range_m, rx.range_resolution_m, rx.max_returns);
+    out += fmt::format("  link: 10% Lambertian at {:.1f} m -> {:.0f} photo-electrons\n",
+                       rx.max_range_m, lambertian_electrons(b, rx, 0.1, rx.max_range_m));
+    out += fmt::format("  noise: range sigma {:.4f} m, jitter sigma {:.4f} mrad\n",
+                       m.noise.range_sigma_m, m.noise.jitter_sigma_rad * 1e3);
+    out += fmt::format("  LAS: point source id {}, scan angle = {}\n", m.point_source_id,
+                       m.airborne ? "across-track angle (+ right)" : "elevation");
+    const std::string tail = channel_tail(m);
+    if (spin) {
+        const auto& lasers = spin->config().lasers;
+        for (std::size_t i = 0; i < lasers.size(); ++i)
+            out +=
+                fmt::format("  ch {:3d}: elev {:8.3f} deg, az {:+7.3f} deg, fires {:7.3f} us{}\n",
+                            i, lasers[i].elevation_deg, lasers[i].azimuth_offset_deg,
+                            lasers[i].firing_offset_ns * 1e-3, tail);
+    } else if (m.scan) {
+        for (std::uint32_t i = 0; i < m.scan->channels(); ++i)
+            out += fmt::format("  ch {:3d}:{}\n", i, tail);
+    }
+    return out;
+}
+
+}  // namespace mirage::sensor
