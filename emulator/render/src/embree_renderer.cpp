@@ -1,1 +1,397 @@
-// placeholder: being written
+// SPDX-License-Identifier: Apache-2.0
+// Embree 3 closest-hit renderer. Every Embree call of the project lives in this file.
+#include "mirage/render/embree_renderer.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "mirage/core/error.hpp"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#endif
+
+namespace mirage::render {
+namespace {
+
+// Embree reads vertices with 16-byte loads, so a float3 buffer needs 4 bytes after the last
+// vertex; Scene::Mesh::vertices gives no such guarantee, hence a padded copy. Triangle
+// indices are read as plain uint32 and can be shared as they are.
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float));
+static_assert(sizeof(Eigen::Vector3i) == 3 * sizeof(std::uint32_t));
+
+// Embree recommends flush-to-zero / denormals-are-zero in every tracing thread (physics.md §4.1).
+void enable_ftz_daz() {
+#if defined(__x86_64__) || defined(__i386__)
+    thread_local bool done = false;
+    if (!done) {
+        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+        done = true;
+    }
+#endif
+}
+
+std::string mesh_label(const scene::Scene& scene, std::size_t m) {
+    std::string label = "meshes[" + std::to_string(m) + "]";
+    if (!scene.meshes[m].name.empty()) label += " '" + scene.meshes[m].name + "'";
+    return label;
+}
+
+void validate_mesh(const scene::Scene& scene, std::size_t m) {
+    const scene::Mesh& mesh = scene.meshes[m];
+    const auto nv = static_cast<long long>(mesh.vertices.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const long long idx = mesh.triangles[t][k];
+            if (idx < 0 || idx >= nv) {
+                throw ConfigError("embree renderer: " + mesh_label(scene, m) + ": triangle " +
+                                  std::to_string(t) + " uses vertex " + std::to_string(idx) +
+                                  " of " + std::to_string(nv));
+            }
+        }
+    }
+    const std::size_t nm = mesh.materials.size();
+    if (nm > 1 && nm != mesh.triangles.size()) {
+        throw ConfigError("embree renderer: " + mesh_label(scene, m) + ": " + std::to_string(nm) +
+                          " materials for " + std::to_string(mesh.triangles.size()) +
+                          " triangles (expected 0, 1 or one per triangle)");
+    }
+}
+
+// Owns one geometry reference until the end of scope (the scene keeps its own once attached),
+// so an error thrown between creation and attachment does not leak it.
+class GeometryRef {
+public:
+    explicit GeometryRef(RTCGeometry g) : g_(g) {}
+    ~GeometryRef() {
+        if (g_) rtcReleaseGeometry(g_);
+    }
+    GeometryRef(const GeometryRef&) = delete;
+    GeometryRef& operator=(const GeometryRef&) = delete;
+    RTCGeometry get() const { return g_; }
+
+private:
+    RTCGeometry g_;
+};
+
+}  // namespace
+
+struct EmbreeRenderer::Impl {
+    const scene::Scene* scene = nullptr;
+    EmbreeOptions opt;
+    RTCDevice device = nullptr;
+    RTCScene top = nullptr;
+    std::vector<RTCScene> children;                  // one per instanced mesh
+    std::vector<std::vector<float>> vertex_buffers;  // padded copies, alive as long as Embree
+    // Top-scene geomID -> mesh index (direct geometry) or instance index (instance geometry).
+    std::vector<std::uint32_t> top_mesh;
+    std::vector<std::uint32_t> top_instance;
+    std::vector<Eigen::Matrix3f> instance_normal;  // indexed by Scene::instances index
+    EmbreeBuildStats stats;
+
+    std::mutex error_mutex;
+    bool error_pending = false;
+    std::string error_message;
+    std::atomic<std::int64_t> bytes{0};
+
+    ~Impl() {
+        if (top) rtcReleaseScene(top);
+        for (RTCScene s : children) {
+            if (s) rtcReleaseScene(s);
+        }
+        if (device) rtcReleaseDevice(device);
+    }
+
+    static void on_error(void* user, RTCError code, const char* str) {
+        auto* self = static_cast<Impl*>(user);
+        std::lock_guard lock(self->error_mutex);
+        if (self->error_pending) return;  // keep the first error: later ones follow from it
+        self->error_pending = true;
+        self->error_message = std::string(str ? str : "unknown error") + " (code " +
+                              std::to_string(static_cast<int>(code)) + ")";
+    }
+
+    static bool on_memory(void* user, ssize_t delta, bool /*post*/) {
+        static_cast<Impl*>(user)->bytes.fetch_add(static_cast<std::int64_t>(delta),
+                                                  std::memory_order_relaxed);
+        return true;
+    }
+
+    void check(const char* call) {
+        std::lock_guard lock(error_mutex);
+        if (error_pending) {
+            error_pending = false;
+            throw Error("embree: " + error_message + " in " + call);
+        }
+    }
+
+    // Stores the new scene in `slot` first, so that ~Impl releases it if a later check throws.
+    RTCScene new_scene(RTCScene& slot) {
+        RTCScene s = slot = rtcNewScene(device);
+        check("rtcNewScene");
+        int flags = RTC_SCENE_FLAG_NONE;
+        if (opt.robust) flags |= RTC_SCENE_FLAG_ROBUST;
+        if (opt.compact) flags |= RTC_SCENE_FLAG_COMPACT;
+        rtcSetSceneFlags(s, static_cast<RTCSceneFlags>(flags));
+        check("rtcSetSceneFlags");
+        RTCBuildQuality q = RTC_BUILD_QUALITY_MEDIUM;
+        if (opt.quality == BvhQuality::Low) q = RTC_BUILD_QUALITY_LOW;
+        if (opt.quality == BvhQuality::High) q = RTC_BUILD_QUALITY_HIGH;
+        rtcSetSceneBuildQuality(s, q);
+        check("rtcSetSceneBuildQuality");
+        return s;
+    }
+
+    void commit(RTCScene s) {
+        const auto t0 = std::chrono::steady_clock::now();
+        rtcCommitScene(s);
+        const auto t1 = std::chrono::steady_clock::now();
+        stats.build_seconds += std::chrono::duration<double>(t1 - t0).count();
+        check("rtcCommitScene");
+    }
+
+    // Attaches mesh `m` as a triangle geometry of `target`; returns its geomID.
+    unsigned attach_mesh(RTCScene target, std::size_t m) {
+        const scene::Mesh& mesh = scene->meshes[m];
+        const GeometryRef ref(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
+        check("rtcNewGeometry(TRIANGLE)");
+        RTCGeometry g = ref.get();
+        std::vector<float>& vb = vertex_buffers.emplace_back(3 * mesh.vertices.size() + 1, 0.0f);
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+            vb[3 * i + 0] = mesh.vertices[i].x();
+            vb[3 * i + 1] = mesh.vertices[i].y();
+            vb[3 * i + 2] = mesh.vertices[i].z();
+        }
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vb.data(), 0,
+                                   3 * sizeof(float), mesh.vertices.size());
+        check("rtcSetSharedGeometryBuffer(VERTEX)");
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                   mesh.triangles.data(), 0, sizeof(Eigen::Vector3i),
+                                   mesh.triangles.size());
+        check("rtcSetSharedGeometryBuffer(INDEX)");
+        rtcCommitGeometry(g);
+        check("rtcCommitGeometry");
+        const unsigned id = rtcAttachGeometry(target, g);
+        check("rtcAttachGeometry");
+        return id;
+    }
+
+    void set_slot(unsigned id, std::uint32_t mesh, std::uint32_t instance) {
+        if (top_mesh.size() <= id) {
+            top_mesh.resize(id + 1, kInvalidId);
+            top_instance.resize(id + 1, kInvalidId);
+        }
+        top_mesh[id] = mesh;
+        top_instance[id] = instance;
+    }
+
+    std::uint32_t material_of(std::uint32_t mesh, std::uint32_t prim) const {
+        const auto& mats = scene->meshes[mesh].materials;
+        if (mats.size() == 1) return mats[0];
+        if (prim < mats.size()) return mats[prim];
+        return kInvalidId;
+    }
+
+    // Converts one Embree hit; `ng` is Embree's unnormalised normal (object space if instanced).
+    Hit make_hit(float t, unsigned geom, unsigned inst, unsigned prim, Eigen::Vector3f ng,
+                 const Eigen::Vector3f& dir) const {
+        Hit h;
+        if (geom == RTC_INVALID_GEOMETRY_ID) return h;
+        h.t = t;
+        h.primitive = prim;
+        if (inst != RTC_INVALID_GEOMETRY_ID && inst < top_instance.size()) {
+            h.instance = top_instance[inst];
+            h.mesh = scene->instances[h.instance].mesh;
+            ng = instance_normal[h.instance] * ng;
+        } else if (geom < top_mesh.size()) {
+            h.mesh = top_mesh[geom];
+        }
+        h.material = h.mesh == kInvalidId ? kInvalidId : material_of(h.mesh, prim);
+        const float len = ng.norm();
+        Eigen::Vector3f n =
+            (len > 0.0f && std::isfinite(len)) ? Eigen::Vector3f(ng / len) : Eigen::Vector3f(-dir);
+        if (n.dot(dir) > 0.0f) n = -n;  // face the ray
+        h.nx = n.x();
+        h.ny = n.y();
+        h.nz = n.z();
+        return h;
+    }
+
+    void trace_single(std::span<const Ray> rays, std::span<Hit> hits) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const Ray& r = rays[i];
+            RTCRayHit rh;
+            rh.ray.org_x = r.ox;
+            rh.ray.org_y = r.oy;
+            rh.ray.org_z = r.oz;
+            rh.ray.tnear = r.tnear;
+            rh.ray.dir_x = r.dx;
+            rh.ray.dir_y = r.dy;
+            rh.ray.dir_z = r.dz;
+            rh.ray.time = 0.0f;
+            rh.ray.tfar = r.tfar;
+            rh.ray.mask = 0xFFFFFFFFu;
+            rh.ray.id = static_cast<unsigned>(i);
+            rh.ray.flags = 0;
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(top, &ctx, &rh);
+            hits[i] = make_hit(rh.ray.tfar, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID,
+                               {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z}, {r.dx, r.dy, r.dz});
+        }
+    }
+
+    void trace_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers group neighbouring rays
+        alignas(64) RTCRayHit16 rh;
+        alignas(64) int valid[16];
+        for (std::size_t base = 0; base < rays.size(); base += 16) {
+            const std::size_t n = std::min<std::size_t>(16, rays.size() - base);
+            for (std::size_t k = 0; k < 16; ++k) {
+                const bool on = k < n;
+                const Ray& r = rays[base + (on ? k : 0)];
+                valid[k] = on ? -1 : 0;
+                rh.ray.org_x[k] = r.ox;
+                rh.ray.org_y[k] = r.oy;
+                rh.ray.org_z[k] = r.oz;
+                rh.ray.tnear[k] = r.tnear;
+                rh.ray.dir_x[k] = r.dx;
+                rh.ray.dir_y[k] = r.dy;
+                rh.ray.dir_z[k] = r.dz;
+                rh.ray.time[k] = 0.0f;
+                rh.ray.tfar[k] = r.tfar;
+                rh.ray.mask[k] = 0xFFFFFFFFu;
+                rh.ray.id[k] = static_cast<unsigned>(k);
+                rh.ray.flags[k] = 0;
+                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect16(valid, top, &ctx, &rh);
+            for (std::size_t k = 0; k < n; ++k) {
+                const Ray& r = rays[base + k];
+                hits[base + k] = make_hit(
+                    rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k],
+                    {rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]}, {r.dx, r.dy, r.dz});
+            }
+        }
+    }
+};
+
+EmbreeRenderer::EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& im = *impl_;
+    im.scene = &scene;
+    im.opt = opt;
+
+    // Validate everything before touching Embree, so bad input reads as ConfigError.
+    std::vector<bool> instanced(scene.meshes.size(), false);
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const std::uint32_t m = scene.instances[i].mesh;
+        if (m >= scene.meshes.size()) {
+            throw ConfigError("embree renderer: instances[" + std::to_string(i) +
+                              "].mesh = " + std::to_string(m) + " but the scene has " +
+                              std::to_string(scene.meshes.size()) + " meshes");
+        }
+        instanced[m] = true;
+    }
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) validate_mesh(scene, m);
+
+    std::string config = opt.device_config;
+    if (config.empty() && opt.api == TraceApi::Single) config = "max_isa=avx2";
+    im.device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
+    if (!im.device) {
+        throw Error("embree: rtcNewDevice(\"" + config + "\") failed (code " +
+                    std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+    }
+    rtcSetDeviceErrorFunction(im.device, &Impl::on_error, &im);
+    rtcSetDeviceMemoryMonitorFunction(im.device, &Impl::on_memory, &im);
+    im.check("rtcNewDevice");
+
+    im.new_scene(im.top);
+    im.children.assign(scene.meshes.size(), nullptr);
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        const auto ntri = scene.meshes[m].triangles.size();
+        if (ntri == 0) continue;
+        im.stats.triangles += ntri;
+        if (instanced[m]) {
+            im.new_scene(im.children[m]);
+            im.attach_mesh(im.children[m], m);
+            im.commit(im.children[m]);
+        } else {
+            im.stats.placed_triangles += ntri;
+            const unsigned id = im.attach_mesh(im.top, m);
+            im.set_slot(id, static_cast<std::uint32_t>(m), kInvalidId);
+        }
+    }
+
+    im.instance_normal.assign(scene.instances.size(), Eigen::Matrix3f::Identity());
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const scene::Instance& inst = scene.instances[i];
+        if (!im.children[inst.mesh]) continue;  // empty mesh
+        im.stats.placed_triangles += scene.meshes[inst.mesh].triangles.size();
+        const Eigen::Matrix3d lin = inst.transform.linear();
+        if (!(std::abs(lin.determinant()) > 0.0)) {
+            throw ConfigError("embree renderer: instances[" + std::to_string(i) +
+                              "].transform is singular");
+        }
+        // Normals transform with the inverse transpose (exact for non-uniform scale too).
+        im.instance_normal[i] = lin.inverse().transpose().cast<float>();
+
+        const GeometryRef ref(rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE));
+        im.check("rtcNewGeometry(INSTANCE)");
+        RTCGeometry g = ref.get();
+        rtcSetGeometryInstancedScene(g, im.children[inst.mesh]);
+        im.check("rtcSetGeometryInstancedScene");
+        // Column-major 3x4: the three columns of the linear part, then the translation.
+        const Eigen::Matrix<double, 3, 4> m34 = inst.transform.affine();
+        float xfm[12];
+        for (int c = 0; c < 4; ++c) {
+            for (int r = 0; r < 3; ++r) xfm[3 * c + r] = static_cast<float>(m34(r, c));
+        }
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+        im.check("rtcSetGeometryTransform");
+        rtcCommitGeometry(g);
+        im.check("rtcCommitGeometry(INSTANCE)");
+        const unsigned id = rtcAttachGeometry(im.top, g);
+        im.check("rtcAttachGeometry(INSTANCE)");
+        im.set_slot(id, inst.mesh, static_cast<std::uint32_t>(i));
+    }
+
+    im.commit(im.top);
+    const std::int64_t total = im.bytes.load();
+    im.stats.bvh_bytes = total > 0 ? static_cast<std::uint64_t>(total) : 0;
+}
+
+EmbreeRenderer::~EmbreeRenderer() = default;
+
+const EmbreeBuildStats& EmbreeRenderer::build_stats() const { return impl_->stats; }
+
+void EmbreeRenderer::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+    enable_ftz_daz();
+    const std::size_t n = std::min(rays.size(), hits.size());  // contract: equal sizes
+    if (impl_->opt.api == TraceApi::Single) {
+        impl_->trace_single(rays.first(n), hits.first(n));
+    } else {
+        impl_->trace_packets(rays.first(n), hits.first(n));
+    }
+}
+
+}  // namespace mirage::render

@@ -32,6 +32,7 @@ struct ChunkGeometry {
     std::vector<Eigen::Vector3d> origin;     // local frame, double
     std::vector<Eigen::Vector3d> direction;  // nominal beam direction, local frame
     std::vector<Ray> rays;                   // tracing order
+    std::vector<Eigen::Vector3f> sub_dir;    // sub-ray directions, pulse-major (slot) order
     std::vector<std::uint32_t> ray_slot;     // rays[i] belongs to pulse ray_slot[i] / S, sub-ray % S
 };
 
@@ -42,7 +43,9 @@ public:
         : sensor_(sensor), trajectory_(trajectory), mount_(mount.as_pose()), start_(start),
           subrays_(sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile,
                                      sensor.beam.divergence_rad)),
-          group_(std::max<std::uint32_t>(1, sensor.scan->group_size())) {}
+          group_(std::max<std::uint32_t>(1, sensor.scan->group_size())) {
+        for (const auto& s : subrays_) tan_.push_back({std::tan(double(s.dx)), std::tan(double(s.dy))});
+    }
 
     std::size_t subray_count() const { return subrays_.size(); }
     const std::vector<sensor::SubRay>& subrays() const { return subrays_; }
@@ -62,6 +65,7 @@ public:
         const std::size_t s_count = subrays_.size();
         g.rays.resize(n * s_count);
         g.ray_slot.resize(n * s_count);
+        g.sub_dir.resize(n * s_count);
         // Ray order: one channel over neighbouring groups, sub-rays adjacent (physics.md §4.3:
         // batching one beam over neighbouring azimuths is 4–5× faster than firing order).
         const std::size_t groups = (n + group_ - 1) / group_;
@@ -75,11 +79,8 @@ public:
                 if (s_count > 1) orthonormal_basis(d, u, v);
                 for (std::size_t s = 0; s < s_count; ++s, ++r) {
                     Eigen::Vector3d ds = d;
-                    if (s > 0) {
-                        ds = (d + std::tan(double(subrays_[s].dx)) * u +
-                              std::tan(double(subrays_[s].dy)) * v)
-                                 .normalized();
-                    }
+                    if (s > 0) ds = (d + tan_[s].first * u + tan_[s].second * v).normalized();
+                    g.sub_dir[i * s_count + s] = ds.cast<float>();
                     Ray& ray = g.rays[r];
                     ray.ox = static_cast<float>(g.origin[i].x());
                     ray.oy = static_cast<float>(g.origin[i].y());
@@ -101,6 +102,7 @@ private:
     core::Pose mount_;
     GpsTime start_;
     std::vector<sensor::SubRay> subrays_;
+    std::vector<std::pair<double, double>> tan_;   // tangents of the sub-ray offsets
     std::uint32_t group_;
 };
 
@@ -151,9 +153,9 @@ public:
                     continue;
                 }
                 if (range > rx.max_range_m) continue;
-                const Eigen::Vector3d dir = ray_direction(g, i, s, subrays);
+                const Eigen::Vector3f& dir = g.sub_dir[i * s_count + s];
                 const double cos_inc =
-                    std::abs(dir.x() * h[s].nx + dir.y() * h[s].ny + dir.z() * h[s].nz);
+                    std::abs(double(dir.x() * h[s].nx + dir.y() * h[s].ny + dir.z() * h[s].nz));
                 const scene::Material& m = scene_.materials[h[s].material];
                 const double brdf = physics::monostatic_brdf(m, cos_inc);
                 const double p =
@@ -174,16 +176,6 @@ public:
     }
 
 private:
-    Eigen::Vector3d ray_direction(const ChunkGeometry& g, std::size_t i, std::size_t s,
-                                  const std::vector<sensor::SubRay>& subrays) const {
-        const Eigen::Vector3d& d = g.direction[i];
-        if (s == 0) return d;
-        Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
-        orthonormal_basis(d, u, v);
-        return (d + std::tan(double(subrays[s].dx)) * u + std::tan(double(subrays[s].dy)) * v)
-            .normalized();
-    }
-
     void emit_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
                       std::vector<Contribution>& contrib, ChunkResult& out) const {
         const auto& rx = sensor_.receiver;
