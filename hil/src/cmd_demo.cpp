@@ -3,7 +3,9 @@
 // LAS files and PNG previews in the output folder.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
 
 #include "commands.hpp"
 #include "job.hpp"
@@ -26,7 +28,41 @@ struct DemoRun {
 
 // Range image of the last revolution (spinning) or of the scan lines (airborne).
 void write_range_preview(const std::string& path, const std::vector<core::PointRecord>& points, const Job& job) {
-    (void)path; (void)points; (void)job;  // TODO: wire to image::write_range_png once its API lands
+    if (points.empty()) return;
+    if (job.sensor.airborne) {
+        // Columns = pulses per scan line, from the first two end-of-line flags.
+        std::uint64_t first_edge = 0, line = 0;
+        bool seen = false;
+        for (const auto& p : points) {
+            if (!p.edge_of_flight_line) continue;
+            if (seen && p.pulse > first_edge) {
+                line = p.pulse - first_edge;
+                break;
+            }
+            first_edge = p.pulse;
+            seen = true;
+        }
+        if (line == 0) return;
+        const int cols = static_cast<int>(std::min<std::uint64_t>(line, 65536));
+        image::write_range_png(path, points, 1000, cols, image::RangeImageLayout::Airborne);
+        return;
+    }
+    // Spinning: the last revolution, rows ordered by elevation (top row = highest beam).
+    const auto last_t = points.back().t;
+    std::map<std::uint16_t, float> elevation;
+    for (const auto& p : points) elevation[p.channel] = p.scan_angle_deg;
+    std::vector<std::pair<float, std::uint16_t>> order;
+    for (auto [ch, el] : elevation) order.push_back({-el, ch});
+    std::sort(order.begin(), order.end());
+    std::map<std::uint16_t, std::uint16_t> row;
+    for (std::size_t i = 0; i < order.size(); ++i) row[order[i].second] = static_cast<std::uint16_t>(i);
+    std::vector<core::PointRecord> rev;
+    for (const auto& p : points)
+        if (last_t - p.t < std::chrono::milliseconds(100)) {
+            rev.push_back(p);
+            rev.back().channel = row[p.channel];
+        }
+    image::write_range_png(path, rev, static_cast<int>(order.size()), 1800, image::RangeImageLayout::Spinning);
 }
 
 void run_one(const DemoRun& run, const std::string& scene_spec, const std::filesystem::path& dir,
