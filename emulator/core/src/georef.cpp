@@ -69,16 +69,16 @@ PjPtr create_crs(ProjContext& ctx, int epsg) {
     return crs;
 }
 
-// Anchors and the local frame are metres on a map grid, so only projected CRSs (optionally
-// with a vertical CRS) make sense.
+// Anchors and the local frame are metres on Cartesian axes, so only projected CRSs (optionally
+// with a vertical CRS) and geocentric (ECEF, e.g. EPSG:4978) CRSs make sense.
 void require_projected(ProjContext& ctx, int epsg, PJ* crs) {
     PJ_TYPE type = proj_get_type(crs);
     if (type == PJ_TYPE_COMPOUND_CRS) {
         PjPtr horizontal{proj_crs_get_sub_crs(ctx.get(), crs, 0)};
         type = horizontal ? proj_get_type(horizontal.get()) : PJ_TYPE_UNKNOWN;
     }
-    if (type != PJ_TYPE_PROJECTED_CRS) {
-        fail(epsg, "not a projected CRS (the anchor and local frame are in metres)");
+    if (type != PJ_TYPE_PROJECTED_CRS && type != PJ_TYPE_GEOCENTRIC_CRS) {
+        fail(epsg, "not a projected or geocentric CRS (the anchor and local frame are in metres)");
     }
 }
 

@@ -407,6 +407,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
             if (slots.empty() || !slots.front()) break;   // aborted and nothing ready in order
             ready = std::move(slots.front());
             slots.pop_front();
+            ++written;   // with the pop, so slots[k] stays chunk written + k for the workers
         }
         try {
             sink.write(ready->points);
@@ -418,10 +419,6 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
             break;
         }
         accumulate(stats, ready->stats);
-        {
-            std::lock_guard lk(mu);
-            ++written;
-        }
         cv_space.notify_all();
         if (progress) {
             stats.seconds =

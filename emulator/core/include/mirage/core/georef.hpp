@@ -6,7 +6,7 @@
 
 namespace mirage::core {
 
-// Georeference of a scene: a double-precision anchor in a projected CRS (EPSG code).
+// Georeference of a scene: a double-precision anchor in a projected or geocentric CRS (EPSG).
 // Geometry and poses are float32/double *relative to the anchor* ("local" frame, metres,
 // x = grid east, y = grid north, z = up), which keeps float32 geometry within ~1 km of zero
 // however large the projected coordinates are (physics.md §4.8).
