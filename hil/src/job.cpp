@@ -125,7 +125,8 @@ std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, do
 
 Job load_job(const JobInputs& in, bool build_renderer) {
     double seconds = 0;
-    return load_job_with_scene(in, load_scene_timed(in.scene, seconds), seconds, build_renderer);
+    auto scene = load_scene_timed(in.scene, seconds);   // before reading `seconds`
+    return load_job_with_scene(in, std::move(scene), seconds, build_renderer);
 }
 
 Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene> scene, double scene_seconds,

@@ -38,7 +38,7 @@ std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> c,
 }
 
 // 32 random bits per uniform, centred in their bin: (u + ½)·2⁻³² lies in [2⁻³³, 1 − 2⁻³³],
-// so log(u) in Box–Muller is always finite. The resolution (2.3e-10) is far below any
+// so the log in the normal's tails is always finite. The resolution (2.3e-10) is far below any
 // per-pulse probability; normals reach 6.8 σ at most, which matters only beyond ~1e11 draws.
 double PulseRng::uniform() {
     if (used_ == 4) {
@@ -51,16 +51,32 @@ double PulseRng::uniform() {
     return (static_cast<double>(u) + 0.5) * 0x1p-32;
 }
 
+// Inverse normal CDF of one uniform (P. J. Acklam's rational approximation, relative error
+// < 1.2e-9): 95 % of draws need only two short polynomials, no log or trigonometry, which makes
+// per-pulse noise several times cheaper than Box–Muller. Tails use one log and one sqrt.
 double PulseRng::normal() {
-    if (has_spare_) {
-        has_spare_ = false;
-        return spare_;
+    static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
+                                   -2.759285104469687e+02, 1.383577518672690e+02,
+                                   -3.066479806614716e+01, 2.506628277459239e+00};
+    static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
+                                   -1.556989798598866e+02, 6.680131188771972e+01,
+                                   -1.328068155288572e+01};
+    static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
+                                   -2.400758277161838e+00, -2.549732539343734e+00,
+                                   4.374664141464968e+00,  2.938163982698783e+00};
+    static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01,
+                                   2.445134137142996e+00, 3.754408661907416e+00};
+    constexpr double kLow = 0.02425;
+    const double p = uniform();
+    if (p < kLow || p > 1.0 - kLow) {
+        const double q = std::sqrt(-2.0 * std::log(p < kLow ? p : 1.0 - p));
+        const double x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+                         ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+        return p < kLow ? x : -x;
     }
-    const double r = std::sqrt(-2.0 * std::log(uniform()));
-    const double theta = 2.0 * std::numbers::pi * uniform();
-    spare_ = r * std::sin(theta);
-    has_spare_ = true;
-    return r * std::cos(theta);
+    const double q = p - 0.5, r = q * q;
+    return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+           (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
 }
 
 }  // namespace mirage::core

@@ -18,6 +18,16 @@ namespace {
 using core::GpsTime;
 using core::PointRecord;
 
+constexpr std::size_t kPoseStride = 16;
+
+// tan(x) for the small offset angles of sub-rays and jitter: the series is exact to double
+// precision below 1e-2 rad and avoids a libm call per draw.
+inline double small_tan(double x) {
+    if (std::abs(x) > 1e-2) return std::tan(x);
+    const double x2 = x * x;
+    return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
+}
+
 // Two unit vectors orthogonal to d (and to each other), for sub-ray offsets and jitter.
 inline void orthonormal_basis(const Eigen::Vector3d& d, Eigen::Vector3d& u, Eigen::Vector3d& v) {
     const Eigen::Vector3d ref =
@@ -44,7 +54,13 @@ public:
           subrays_(sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile,
                                      sensor.beam.divergence_rad)),
           group_(std::max<std::uint32_t>(1, sensor.scan->group_size())) {
-        for (const auto& s : subrays_) tan_.push_back({std::tan(double(s.dx)), std::tan(double(s.dy))});
+        // d + a·u + b·v has length √(1 + a² + b²) for orthonormal (d, u, v): normalise with a
+        // precomputed factor instead of a square root per sub-ray.
+        for (const auto& s : subrays_) {
+            const double a = std::tan(double(s.dx)), b = std::tan(double(s.dy));
+            tan_.push_back({a, b});
+            inv_norm_.push_back(1.0 / std::sqrt(1.0 + a * a + b * b));
+        }
     }
 
     std::size_t subray_count() const { return subrays_.size(); }
@@ -55,10 +71,32 @@ public:
         sensor_.scan->pulses(first, n, g.specs.data());
         g.origin.resize(n);
         g.direction.resize(n);
+        // Exact poses (slerp on the trajectory) every kPoseStride pulses; pulses between take
+        // the linear/normalised-linear blend of the two bracketing exact poses. Over a few tens of
+        // µs the blend differs from the exact pose by < 1e-9 m and < 1e-12 rad, and it removes
+        // most of the trigonometry from the per-pulse cost.
         std::size_t hint = 0;
+        core::Pose p0, p1;
+        std::int64_t t0 = 0, t1 = 0;
+        std::size_t next_knot = 0;
         for (std::size_t i = 0; i < n; ++i) {
-            const GpsTime t = start_ + core::Nanos(g.specs[i].t_ns);
-            const core::Pose p = trajectory_.at(t, hint) * mount_;
+            const std::int64_t ti = g.specs[i].t_ns;
+            if (i == next_knot) {
+                const std::size_t j = std::min(n - 1, i + kPoseStride);
+                t0 = ti;
+                t1 = g.specs[j].t_ns;
+                p0 = trajectory_.at(start_ + core::Nanos(t0), hint) * mount_;
+                p1 = j == i ? p0 : trajectory_.at(start_ + core::Nanos(t1), hint) * mount_;
+                if (p0.attitude.coeffs().dot(p1.attitude.coeffs()) < 0) p1.attitude.coeffs() *= -1;
+                next_knot = j == i ? n : j;
+            }
+            core::Pose p = p0;
+            if (ti != t0 && t1 != t0) {
+                const double f = double(ti - t0) / double(t1 - t0);
+                p.position = p0.position + f * (p1.position - p0.position);
+                p.attitude.coeffs() = (1.0 - f) * p0.attitude.coeffs() + f * p1.attitude.coeffs();
+                p.attitude.normalize();
+            }
             g.origin[i] = p.position;
             g.direction[i] = (p.attitude * g.specs[i].dir.cast<double>()).normalized();
         }
@@ -79,7 +117,7 @@ public:
                 if (s_count > 1) orthonormal_basis(d, u, v);
                 for (std::size_t s = 0; s < s_count; ++s, ++r) {
                     Eigen::Vector3d ds = d;
-                    if (s > 0) ds = (d + tan_[s].first * u + tan_[s].second * v).normalized();
+                    if (s > 0) ds = (d + tan_[s].first * u + tan_[s].second * v) * inv_norm_[s];
                     g.sub_dir[i * s_count + s] = ds.cast<float>();
                     Ray& ray = g.rays[r];
                     ray.ox = static_cast<float>(g.origin[i].x());
@@ -103,6 +141,7 @@ private:
     GpsTime start_;
     std::vector<sensor::SubRay> subrays_;
     std::vector<std::pair<double, double>> tan_;   // tangents of the sub-ray offsets
+    std::vector<double> inv_norm_;
     std::uint32_t group_;
 };
 
@@ -260,7 +299,7 @@ private:
                 orthonormal_basis(d, u, v);
                 const double ax = jitter * rng.normal();
                 const double ay = jitter * rng.normal();
-                d = (d + std::tan(ax) * u + std::tan(ay) * v).normalized();
+                d = (d + small_tan(ax) * u + small_tan(ay) * v).normalized();
             }
             const Eigen::Vector3d p = g.origin[i] + range * d;
             PointRecord pt;
@@ -346,6 +385,9 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     std::mutex mu;
     std::condition_variable cv_done, cv_space;
     std::deque<std::unique_ptr<ChunkResult>> slots;   // slots[k] = chunk written_ + k
+    // Written chunks go back to a pool: fresh multi-megabyte vectors per chunk cost more in page
+    // faults than the physics.
+    std::vector<std::unique_ptr<ChunkResult>> pool_free;
     std::uint64_t written = 0, next = 0;
     bool abort = false;
     std::exception_ptr error;
@@ -366,7 +408,17 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                 }
                 c = next++;
             }
-            auto result = std::make_unique<ChunkResult>();
+            std::unique_ptr<ChunkResult> result;
+            {
+                std::lock_guard lk(mu);
+                if (!pool_free.empty()) {
+                    result = std::move(pool_free.back());
+                    pool_free.pop_back();
+                }
+            }
+            if (!result) result = std::make_unique<ChunkResult>();
+            result->points.clear();
+            result->stats = {};
             try {
                 const std::uint64_t first = c * chunk;
                 const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, total - first));
@@ -419,6 +471,10 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
             break;
         }
         accumulate(stats, ready->stats);
+        {
+            std::lock_guard lk(mu);
+            pool_free.push_back(std::move(ready));
+        }
         cv_space.notify_all();
         if (progress) {
             stats.seconds =

@@ -20,7 +20,7 @@ public:
     // Uniform in (0, 1), never 0 or 1: one 32-bit Philox word u as (u + 0.5)·2⁻³².
     // Counter = {pulse lo, pulse hi, stream, block}; key = seed; 4 uniforms per block.
     double uniform();
-    // Standard normal (Box–Muller on two uniforms; the second value is cached for the next call).
+    // Standard normal from one uniform by the inverse CDF (Acklam's approximation).
     double normal();
 
 private:
@@ -30,8 +30,6 @@ private:
     std::uint32_t block_ = 0;
     std::array<std::uint32_t, 4> buf_{};
     int used_ = 4;
-    double spare_ = 0.0;
-    bool has_spare_ = false;
 };
 
 }  // namespace mirage::core
