@@ -94,7 +94,7 @@ void register_bench(CLI::App& app) {
     struct Opts {
         std::string out_dir = "bench-results";
         int threads = 0;
-        std::string seconds = "0.5";     // simulated seconds per throughput configuration
+        std::string seconds = "3";       // simulated seconds per throughput configuration
         bool quick = false;
     };
     auto o = std::make_shared<Opts>();

@@ -33,18 +33,8 @@ std::uint32_t material_of(const scene::Mesh& mesh, std::size_t prim) {
 }
 
 void check_indices(const scene::Scene& scene, std::size_t m) {
-    const scene::Mesh& mesh = scene.meshes[m];
-    const auto nv = static_cast<long long>(mesh.vertices.size());
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        for (int k = 0; k < 3; ++k) {
-            const long long idx = mesh.triangles[t][k];
-            if (idx < 0 || idx >= nv) {
-                throw ConfigError("brute-force renderer: meshes[" + std::to_string(m) +
-                                  "]: triangle " + std::to_string(t) + " uses vertex " +
-                                  std::to_string(idx) + " of " + std::to_string(nv));
-            }
-        }
-    }
+    scene::check_vertex_indices(scene.meshes[m],
+                                "brute-force renderer: meshes[" + std::to_string(m) + "]: ");
 }
 
 }  // namespace

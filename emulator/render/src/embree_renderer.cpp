@@ -51,17 +51,7 @@ std::string mesh_label(const scene::Scene& scene, std::size_t m) {
 
 void validate_mesh(const scene::Scene& scene, std::size_t m) {
     const scene::Mesh& mesh = scene.meshes[m];
-    const auto nv = static_cast<long long>(mesh.vertices.size());
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        for (int k = 0; k < 3; ++k) {
-            const long long idx = mesh.triangles[t][k];
-            if (idx < 0 || idx >= nv) {
-                throw ConfigError("embree renderer: " + mesh_label(scene, m) + ": triangle " +
-                                  std::to_string(t) + " uses vertex " + std::to_string(idx) +
-                                  " of " + std::to_string(nv));
-            }
-        }
-    }
+    scene::check_vertex_indices(mesh, "embree renderer: " + mesh_label(scene, m) + ": ");
     const std::size_t nm = mesh.materials.size();
     if (nm > 1 && nm != mesh.triangles.size()) {
         throw ConfigError("embree renderer: " + mesh_label(scene, m) + ": " + std::to_string(nm) +

@@ -43,7 +43,8 @@ struct ChunkGeometry {
     std::vector<Eigen::Vector3d> direction;  // nominal beam direction, local frame
     std::vector<Ray> rays;                   // tracing order
     std::vector<Eigen::Vector3f> sub_dir;    // sub-ray directions, pulse-major (slot) order
-    std::vector<std::uint32_t> ray_slot;     // rays[i] belongs to pulse ray_slot[i] / S, sub-ray % S
+    std::vector<std::uint32_t> first_ray;    // index in `rays` of pulse i's first sub-ray; the
+                                             // S sub-rays of a pulse are adjacent in `rays`
 };
 
 class ChunkBuilder {
@@ -102,7 +103,7 @@ public:
         }
         const std::size_t s_count = subrays_.size();
         g.rays.resize(n * s_count);
-        g.ray_slot.resize(n * s_count);
+        g.first_ray.resize(n);
         g.sub_dir.resize(n * s_count);
         // Ray order: one channel over neighbouring groups, sub-rays adjacent (physics.md §4.3:
         // batching one beam over neighbouring azimuths is 4–5× faster than firing order).
@@ -115,6 +116,7 @@ public:
                 const Eigen::Vector3d& d = g.direction[i];
                 Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
                 if (s_count > 1) orthonormal_basis(d, u, v);
+                g.first_ray[i] = static_cast<std::uint32_t>(r);
                 for (std::size_t s = 0; s < s_count; ++s, ++r) {
                     Eigen::Vector3d ds = d;
                     if (s > 0) ds = (d + tan_[s].first * u + tan_[s].second * v) * inv_norm_[s];
@@ -128,7 +130,6 @@ public:
                     ray.dz = static_cast<float>(ds.z());
                     ray.tnear = 0.0f;
                     ray.tfar = static_cast<float>(sensor_.receiver.max_range_m);
-                    g.ray_slot[r] = static_cast<std::uint32_t>(i * s_count + s);
                 }
             }
         }
@@ -171,17 +172,12 @@ public:
                const std::vector<sensor::SubRay>& subrays, ChunkResult& out) const {
         const std::size_t n = g.specs.size();
         const std::size_t s_count = subrays.size();
-        // Hits back in pulse order.
-        thread_local std::vector<Hit> ordered;
-        ordered.resize(hits.size());
-        for (std::size_t r = 0; r < hits.size(); ++r) ordered[g.ray_slot[r]] = hits[r];
-
         const auto& rx = sensor_.receiver;
         std::vector<Contribution> contrib;
         contrib.reserve(s_count);
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint64_t pulse = first + i;
-            const Hit* h = &ordered[i * s_count];
+            const Hit* h = &hits[g.first_ray[i]];
             contrib.clear();
             bool any_close = false;
             for (std::size_t s = 0; s < s_count; ++s) {

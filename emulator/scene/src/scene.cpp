@@ -13,6 +13,19 @@ std::uint32_t Scene::add_material(Material m) {
     return static_cast<std::uint32_t>(materials.size() - 1);
 }
 
+void check_vertex_indices(const Mesh& mesh, const std::string& who) {
+    const auto nv = static_cast<long long>(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const long long v = mesh.triangles[i][k];
+            if (v < 0 || v >= nv) {
+                throw ConfigError(who + "triangle " + std::to_string(i) + " uses vertex " +
+                                  std::to_string(v) + " of " + std::to_string(nv));
+            }
+        }
+    }
+}
+
 std::uint32_t Scene::add_mesh(Mesh m) {
     // Renderers index vertices and materials without checks, so the mesh is validated here once.
     const std::string who = "scene: mesh '" + m.name + "': ";
@@ -20,15 +33,8 @@ std::uint32_t Scene::add_mesh(Mesh m) {
         throw ConfigError(who + std::to_string(m.materials.size()) + " materials for " +
                           std::to_string(m.triangles.size()) + " triangles");
     }
-    const auto nv = static_cast<long long>(m.vertices.size());
+    check_vertex_indices(m, who);
     for (std::size_t i = 0; i < m.triangles.size(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-            const long long v = m.triangles[i][k];
-            if (v < 0 || v >= nv) {
-                throw ConfigError(who + "triangle " + std::to_string(i) + " uses vertex " +
-                                  std::to_string(v) + " of " + std::to_string(nv));
-            }
-        }
         if (m.materials[i] >= materials.size()) {
             throw ConfigError(who + "triangle " + std::to_string(i) + " uses material " +
                               std::to_string(m.materials[i]) + " of " +

@@ -30,7 +30,7 @@ struct RenderOptions {
     core::GpsTime start{};                // time of pulse 0
     core::Nanos duration{std::chrono::seconds(1)};
     bool noise = true;                    // range noise, jitter, detector noise
-    std::size_t chunk_pulses = 8192;      // work unit; results are independent of it
+    std::size_t chunk_pulses = 2048;      // work unit; results are independent of it
     physics::IntensityCalibration intensity;
 };
 

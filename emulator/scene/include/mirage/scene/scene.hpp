@@ -36,6 +36,11 @@ struct Instance {
     Eigen::Affine3d transform{Eigen::Affine3d::Identity()};
 };
 
+// Throws ConfigError("<who>triangle i uses vertex v of n") if a triangle indexes outside the
+// vertex list. The one index check shared by Scene::add_mesh and the renderers (which read
+// vertices unchecked on the hot path).
+void check_vertex_indices(const Mesh& mesh, const std::string& who);
+
 struct LoadStats {
     std::uint64_t degenerate_triangles_dropped = 0;   // zero area or repeated vertex
     std::uint64_t triangles = 0;                      // after dropping, counting instances once
