@@ -54,11 +54,12 @@ void write_reports(const BenchReport& r, const std::string& dir) {
         md << fmt::format("\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} points).\n\n",
                           r.las_points_per_s / 1e6, r.las_mb_per_s, r.las_points);
         md << "## Run time against error (VLP-16, demo drive, noise off; reference: 37 sub-rays, HIGH BVH)\n\n"
-              "| sub-rays | BVH | time s | range RMS mm | intensity RMS | return presence differs % |\n"
-              "|---:|---|---:|---:|---:|---:|\n";
+              "| sub-rays | BVH | time s | range RMS mm | range p50 mm | range p95 mm | intensity RMS | return "
+              "presence differs % |\n|---:|---|---:|---:|---:|---:|---:|---:|\n";
         for (const auto& e : r.errors)
-            md << fmt::format("| {} | {} | {:.3f} | {:.2f} | {:.1f} | {:.3f} |\n", e.sub_rays, e.quality, e.seconds,
-                              e.range_rms_m * 1000.0, e.intensity_rms, 100.0 * e.presence_mismatch);
+            md << fmt::format("| {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | {:.3f} |\n", e.sub_rays,
+                              e.quality, e.seconds, e.range_rms_m * 1000.0, e.range_p50_m * 1000.0,
+                              e.range_p95_m * 1000.0, e.intensity_rms, 100.0 * e.presence_mismatch);
         if (!r.errors.empty())
             md << fmt::format("\nReference render time: {:.3f} s.\n", r.errors.front().reference_seconds);
     }
@@ -86,8 +87,9 @@ void write_reports(const BenchReport& r, const std::string& dir) {
             const auto& e = r.errors[i];
             js << fmt::format(
                 "    {{\"sub_rays\": {}, \"bvh\": \"{}\", \"seconds\": {}, \"range_rms_m\": {}, "
-                "\"intensity_rms\": {}, \"presence_mismatch\": {}}}{}\n",
-                e.sub_rays, e.quality, e.seconds, e.range_rms_m, e.intensity_rms, e.presence_mismatch,
+                "\"range_p50_m\": {}, \"range_p95_m\": {}, \"intensity_rms\": {}, \"presence_mismatch\": {}}}{}\n",
+                e.sub_rays, e.quality, e.seconds, e.range_rms_m, e.range_p50_m, e.range_p95_m, e.intensity_rms,
+                e.presence_mismatch,
                 i + 1 < r.errors.size() ? "," : "");
         }
         js << "  ]\n}\n";

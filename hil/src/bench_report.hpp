@@ -21,7 +21,7 @@ struct ErrorRow {
     int sub_rays = 1;
     std::string quality;
     double seconds = 0, reference_seconds = 0;
-    double range_rms_m = 0, intensity_rms = 0, presence_mismatch = 0;
+    double range_rms_m = 0, range_p50_m = 0, range_p95_m = 0, intensity_rms = 0, presence_mismatch = 0;
 };
 
 struct BenchReport {
