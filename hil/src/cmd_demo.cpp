@@ -62,7 +62,8 @@ void write_range_preview(const std::string& path, const std::vector<core::PointR
             rev.push_back(p);
             rev.back().channel = row[p.channel];
         }
-    image::write_range_png(path, rev, static_cast<int>(order.size()), 1800, image::RangeImageLayout::Spinning);
+    image::write_range_png(path, rev, static_cast<int>(order.size()), 1800, image::RangeImageLayout::Spinning,
+                           std::max(1, 256 / static_cast<int>(order.size())));
 }
 
 void run_one(const DemoRun& run, const std::string& scene_spec, const std::filesystem::path& dir,
@@ -88,6 +89,8 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     lo.file_source_id = job.sensor.point_source_id;
     las::LasWriter writer(las_path.string(), job.scene->georef, lo);
     std::vector<core::PointRecord> points;
+    // Reserve up front: growing a multi-gigabyte vector while rendering stalls the writer thread.
+    points.reserve(job.sensor.scan->pulse_count(job.options.duration));
     LasSink sink(writer, &points);
     fmt::print("\n== {}: {} along {} for {} s ==\n", run.name, run.sensor, run.trajectory, run.seconds);
     ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
@@ -126,7 +129,7 @@ void register_demo(CLI::App& app) {
     cmd->add_option("--car-seconds", o->car_seconds, "Length of the drive")->capture_default_str();
     cmd->add_option("--flight-seconds", o->flight_seconds, "Length of the flight")->capture_default_str();
     cmd->callback([o] {
-        const std::filesystem::path dir = std::filesystem::absolute(o->out_dir);
+        const std::filesystem::path dir = std::filesystem::absolute(o->out_dir).lexically_normal();
         std::filesystem::create_directories(dir);
         las::install_signal_finalizer();
         const std::string scene_spec = fmt::format("demo:{}", o->seed);

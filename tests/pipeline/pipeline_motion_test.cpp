@@ -63,5 +63,31 @@ TEST(PipelineMotion, every_point_lies_on_geometry_at_its_firing_time) {
     EXPECT_GT(worst_frame, 10.0);
 }
 
+TEST(PipelineMotion, lever_arm_and_boresight_place_and_point_the_sensor) {
+    // Wall x = 50 facing the origin.
+    Eigen::Affine3d wall = Eigen::Affine3d::Identity();
+    wall.translate(Eigen::Vector3d(50, 0, 0));
+    wall.rotate(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));
+    const scene::Scene scene = plane_scene(400.0, wall);
+    render::EmbreeRenderer r(scene);
+    auto sensor = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
+    // Platform at (10, 20, 0) facing north; sensor 1 m forward and 2 m up, turned 90° right.
+    const core::Pose platform{{10, 20, 0}, core::quaternion_from_rpy(0, 0, std::numbers::pi / 2)};
+    core::Mount mount;
+    mount.lever_arm_m = {1, 0, 2};
+    mount.boresight = core::quaternion_from_rpy(0, 0, -std::numbers::pi / 2);
+    render::RenderOptions opt;
+    opt.noise = false;
+    opt.duration = core::Nanos(1000);
+    VectorSink sink;
+    render::render(scene, r, sensor, core::Trajectory::fixed(platform), mount, {}, opt, sink);
+    ASSERT_EQ(sink.points.size(), 1u);
+    const auto& p = sink.points[0];
+    EXPECT_NEAR(p.x, 50.0, 1e-4);
+    EXPECT_NEAR(p.y, 21.0, 1e-4);
+    EXPECT_NEAR(p.z, 2.0, 1e-4);
+    EXPECT_NEAR(p.range_m, 40.0, 1e-4);
+}
+
 }  // namespace
 }  // namespace mirage::test

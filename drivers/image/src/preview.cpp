@@ -97,10 +97,14 @@ RgbImage render_topdown(std::span<const core::PointRecord> pts, TopdownMode mode
             if (std::isfinite(top[c])) put(img, c, colormap((top[c] - lo) / span));
         }
     } else {
-        const double norm = std::log1p(std::max(1.0, quantile(kept, 0.99)));
+        // LAS intensity is already a log calibration of the signal, so a linear stretch between
+        // the 1st and 99th percentiles shows it best (a second log would wash everything white).
+        const double lo = quantile(kept, 0.01);
+        const double hi = quantile(kept, 0.99);
+        const double span = hi > lo ? hi - lo : 1.0;
         for (std::size_t c = 0; c < cells; ++c) {
             if (!std::isfinite(top[c])) continue;
-            const double t = std::min(1.0, std::log1p(intensity[c]) / norm);
+            const double t = std::clamp((intensity[c] - lo) / span, 0.0, 1.0);
             const auto g = static_cast<std::uint8_t>(std::lround(32.0 + 223.0 * t));
             put(img, c, {g, g, g});
         }
@@ -109,7 +113,15 @@ RgbImage render_topdown(std::span<const core::PointRecord> pts, TopdownMode mode
 }
 
 RgbImage render_range(std::span<const core::PointRecord> pts, int rows, int cols,
-                      RangeImageLayout layout) {
+                      RangeImageLayout layout, int row_scale) {
+    if (row_scale > 1) {
+        // Repeat each row so a 16-beam image is tall enough to read.
+        const RgbImage one = render_range(pts, rows, cols, layout, 1);
+        RgbImage tall(one.width, one.height * row_scale);
+        for (int r = 0; r < tall.height; ++r)
+            std::copy_n(one.at(r / row_scale, 0), static_cast<std::size_t>(one.width) * 3, tall.at(r, 0));
+        return tall;
+    }
     constexpr int kMaxSide = 65536;
     if (rows < 1 || cols < 1 || rows > kMaxSide || cols > kMaxSide) {
         throw ConfigError("range preview: rows and cols must be in [1, 65536], got " +
@@ -175,8 +187,8 @@ void write_topdown_png(const std::string& path, std::span<const core::PointRecor
 }
 
 void write_range_png(const std::string& path, std::span<const core::PointRecord> pts, int rows,
-                     int cols, RangeImageLayout layout) {
-    write_png(path, render_range(pts, rows, cols, layout));
+                     int cols, RangeImageLayout layout, int row_scale) {
+    write_png(path, render_range(pts, rows, cols, layout, row_scale));
 }
 
 }  // namespace mirage::image

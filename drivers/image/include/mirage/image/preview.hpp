@@ -20,8 +20,8 @@ std::array<std::uint8_t, 3> colormap(double t);
 // Top-down raster over the x/y bounds of the points (local frame, north up: row 0 = max y).
 // Each pixel keeps its highest point. The pixel grows beyond pixel_m when needed so neither
 // side exceeds max_side. Height: colormap over the 1st..99th percentile of the kept heights.
-// Intensity: grey = 32 + 223·log(1 + I)/log(1 + I99) (I99 = 99th percentile of kept
-// intensities), so a hit is never black. Empty pixels (and no points at all: a 1x1 image)
+// Intensity: grey = 32 + 223·clamp((I − I1)/(I99 − I1)) (percentiles of the kept intensities;
+// LAS intensity is already log-calibrated), so a hit is never black. Empty pixels (and no points at all: a 1x1 image)
 // are black. Non-finite points are skipped. Throws ConfigError on pixel_m <= 0 or
 // max_side < 1.
 RgbImage render_topdown(std::span<const core::PointRecord> pts, TopdownMode mode,
@@ -38,13 +38,14 @@ RgbImage render_topdown(std::span<const core::PointRecord> pts, TopdownMode mode
 //   line (firing order; a bidirectional mirror mirrors every other line). Pulses that missed
 //   leave gaps rather than shifting the line. Lines beyond `rows` are dropped.
 // Throws ConfigError when rows or cols is outside [1, 65536].
+// row_scale > 1 repeats every row that many times (readable 16-beam images).
 RgbImage render_range(std::span<const core::PointRecord> pts, int rows, int cols,
-                      RangeImageLayout layout);
+                      RangeImageLayout layout, int row_scale = 1);
 
 // render_* then write_png; IoError names the file.
 void write_topdown_png(const std::string& path, std::span<const core::PointRecord> pts,
                        TopdownMode mode, double pixel_m = 0.5, int max_side = 2048);
 void write_range_png(const std::string& path, std::span<const core::PointRecord> pts, int rows,
-                     int cols, RangeImageLayout layout);
+                     int cols, RangeImageLayout layout, int row_scale = 1);
 
 }  // namespace mirage::image
