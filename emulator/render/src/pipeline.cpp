@@ -28,13 +28,21 @@ inline double small_tan(double x) {
     return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
 }
 
-// Two unit vectors orthogonal to d (and to each other), for sub-ray offsets and jitter.
+// Two unit vectors orthogonal to unit d (and to each other), for sub-ray offsets and jitter.
+// Written out so each costs one square root and one division (Eigen's normalized() divides
+// per component, and these divisions dominated the per-pulse profile).
 inline void orthonormal_basis(const Eigen::Vector3d& d, Eigen::Vector3d& u, Eigen::Vector3d& v) {
-    const Eigen::Vector3d ref =
-        std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-    u = d.cross(ref).normalized();
+    if (std::abs(d.z()) < 0.9) {   // u = d × z / |d × z|
+        const double inv = 1.0 / std::sqrt(d.x() * d.x() + d.y() * d.y());
+        u = {d.y() * inv, -d.x() * inv, 0.0};
+    } else {                       // u = d × x / |d × x|
+        const double inv = 1.0 / std::sqrt(d.y() * d.y() + d.z() * d.z());
+        u = {0.0, d.z() * inv, -d.y() * inv};
+    }
     v = d.cross(u);
 }
+
+inline Eigen::Vector3d unit(const Eigen::Vector3d& x) { return x * (1.0 / std::sqrt(x.squaredNorm())); }
 
 // Pulses of a chunk in firing order, their sensor poses, and the rays traced for them.
 struct ChunkGeometry {
@@ -96,10 +104,10 @@ public:
                 const double f = double(ti - t0) / double(t1 - t0);
                 p.position = p0.position + f * (p1.position - p0.position);
                 p.attitude.coeffs() = (1.0 - f) * p0.attitude.coeffs() + f * p1.attitude.coeffs();
-                p.attitude.normalize();
+                p.attitude.coeffs() *= 1.0 / std::sqrt(p.attitude.coeffs().squaredNorm());
             }
             g.origin[i] = p.position;
-            g.direction[i] = (p.attitude * g.specs[i].dir.cast<double>()).normalized();
+            g.direction[i] = unit(p.attitude * g.specs[i].dir.cast<double>());
         }
         const std::size_t s_count = subrays_.size();
         g.rays.resize(n * s_count);
@@ -293,9 +301,10 @@ private:
                 // beam, so the lateral error grows with range.
                 Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
                 orthonormal_basis(d, u, v);
-                const double ax = jitter * rng.normal();
-                const double ay = jitter * rng.normal();
-                d = (d + small_tan(ax) * u + small_tan(ay) * v).normalized();
+                const double tx = small_tan(jitter * rng.normal());
+                const double ty = small_tan(jitter * rng.normal());
+                // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
+                d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
             }
             const Eigen::Vector3d p = g.origin[i] + range * d;
             PointRecord pt;
