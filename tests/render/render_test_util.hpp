@@ -2,6 +2,7 @@
 // Shared helpers of the render tests: scene builders, ray makers, an independent double-precision
 // ray/triangle analyser (for ambiguity classification) and error statistics.
 #pragma once
+#include "error_stats.hpp"
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,8 @@
 #include "mirage/scene/scene.hpp"
 
 namespace mirage::render::test {
+
+using mirage::test::ErrorStats;
 
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -109,17 +112,6 @@ inline Eigen::Vector3d incident_direction(const Eigen::Vector3d& n, double theta
     return (std::sin(theta) * (std::cos(phi) * e1 + std::sin(phi) * e2) - std::cos(theta) * nn)
         .normalized();
 }
-
-struct ErrorStats {
-    double sum_sq = 0, max_abs = 0;
-    std::size_t n = 0;
-    void add(double e) {
-        sum_sq += e * e;
-        max_abs = std::max(max_abs, std::abs(e));
-        ++n;
-    }
-    double rms() const { return n ? std::sqrt(sum_sq / static_cast<double>(n)) : 0.0; }
-};
 
 // A placed triangle in the local frame, in double.
 struct PlacedTri {

@@ -14,6 +14,8 @@
 namespace mirage::scene {
 namespace {
 
+using test::expect_error;
+
 std::string fixture(const std::string& name) {
     return (test::source_dir() / "recordings" / "scenes" / name).string();
 }
@@ -99,19 +101,6 @@ TEST(Heightfield, eight_bit_pgm_uses_one_byte_per_sample) {
     EXPECT_DOUBLE_EQ(g.at(1, 1), 10);
 }
 
-// Expects a ConfigError whose message contains every fragment.
-template <class F>
-void expect_error(F&& f, std::initializer_list<std::string> fragments) {
-    try {
-        f();
-        ADD_FAILURE() << "no exception";
-    } catch (const ConfigError& e) {
-        const std::string msg = e.what();
-        for (const auto& frag : fragments) {
-            EXPECT_NE(msg.find(frag), std::string::npos) << "'" << frag << "' not in: " << msg;
-        }
-    }
-}
 
 TEST(Heightfield, malformed_rasters_name_the_file_and_line) {
     expect_error(

@@ -5,9 +5,29 @@
 #include <map>
 #include <utility>
 
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <string>
+
+#include "mirage/core/error.hpp"
 #include "mirage/scene/scene.hpp"
 
 namespace mirage::test {
+
+// Expects a ConfigError whose message contains every fragment.
+template <class F>
+void expect_error(F&& f, std::initializer_list<std::string> fragments) {
+    try {
+        f();
+        ADD_FAILURE() << "no exception";
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        for (const auto& frag : fragments) {
+            EXPECT_NE(msg.find(frag), std::string::npos) << "'" << frag << "' not in: " << msg;
+        }
+    }
+}
 
 inline Eigen::Vector3d vertex(const scene::Mesh& m, int i) {
     return m.vertices[static_cast<std::size_t>(i)].cast<double>();

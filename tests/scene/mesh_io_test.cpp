@@ -14,23 +14,12 @@
 namespace mirage::scene {
 namespace {
 
+using test::expect_error;
+
 std::string fixture(const std::string& name) {
     return (test::source_dir() / "recordings" / "scenes" / name).string();
 }
 
-// Expects a ConfigError whose message contains every fragment.
-template <class F>
-void expect_error(F&& f, std::initializer_list<std::string> fragments) {
-    try {
-        f();
-        ADD_FAILURE() << "no exception";
-    } catch (const ConfigError& e) {
-        const std::string msg = e.what();
-        for (const auto& frag : fragments) {
-            EXPECT_NE(msg.find(frag), std::string::npos) << "'" << frag << "' not in: " << msg;
-        }
-    }
-}
 
 Mesh obj(const std::string& text, LoadStats* stats = nullptr) {
     LoadStats local;
