@@ -92,6 +92,10 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
         app.add_option("--trajectory", in.trajectory,
                        "Trajectory CSV, 'static:x,y,z[,roll,pitch,yaw]' (local m, deg), "
                        "'demo-car' or 'demo-flight'");
+        app.add_option("--interpolation", in.interpolation,
+                       "Trajectory positions between samples: linear or cubic (attitude: slerp)")
+            ->check(CLI::IsMember({"linear", "cubic"}))
+            ->capture_default_str();
         app.add_option("--duration", in.duration, "Seconds to render (default: trajectory span)");
         app.add_option("--start", in.start, "Time of the first pulse: UTC ISO 8601 or gps:<seconds>");
     }
@@ -166,7 +170,9 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
                                              : scene::demo_flight_trajectory(demo_options(in.scene), start, d);
         span = d;
     } else {
-        job.trajectory = core::load_trajectory_csv(tspec, job.scene->georef, core::Interpolation::Cubic);
+        job.trajectory = core::load_trajectory_csv(
+            tspec, job.scene->georef,
+            in.interpolation == "linear" ? core::Interpolation::Linear : core::Interpolation::Cubic);
         if (in.start.empty()) start = job.trajectory.begin();
         span = job.trajectory.end() - start;
     }

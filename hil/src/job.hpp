@@ -18,6 +18,7 @@ struct JobInputs {
     std::string scene = "demo";
     std::string sensor = "vlp16";
     std::string trajectory;            // CSV path, static:x,y,z[,roll,pitch,yaw], demo-car, demo-flight
+    std::string interpolation = "cubic";   // trajectory positions: linear | cubic
     std::string duration;              // seconds (decimal, exact); empty = trajectory span (or 1 s)
     std::string start;                 // UTC/GPS time of pulse 0; empty = trajectory start
     std::uint64_t seed = 1;

@@ -36,6 +36,27 @@ TEST(Cli, render_writes_a_valid_las_with_a_summary) {
     EXPECT_NE(info.output.find("valid"), std::string::npos);
 }
 
+TEST(Cli, render_follows_a_csv_trajectory_with_either_interpolation) {
+    TempDir tmp;
+    const auto csv = tmp.file("t.csv");
+    std::ofstream(csv) << "# a 2 s drive east, 1.8 m above the town's origin\n"
+                          "time,x,y,z,roll,pitch,yaw\n"
+                          "1388534418.0,-10,0,10,0,0,0\n"
+                          "1388534419.0,0,0,10,0,0,10\n"
+                          "1388534420.0,10,0,10,0,0,20\n";
+    for (const char* interp : {"linear", "cubic"}) {
+        const auto out = tmp.file(std::string(interp) + ".las");
+        const auto r = run_mirage("render --scene demo --sensor vlp16 --trajectory " + csv + " --interpolation " +
+                                  interp + " --out " + out);
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        const auto f = las::LasFile::read(out);
+        EXPECT_TRUE(f.validate().empty());
+        // 2 s of a VLP-16 (289 352 pulses/s), most of which see the town.
+        EXPECT_GT(f.header().point_count, 200'000u) << interp;
+        EXPECT_LT(f.header().point_count, 2 * 289'356u) << interp;
+    }
+}
+
 TEST(Cli, bad_inputs_fail_with_a_clear_message_and_nonzero_exit) {
     TempDir tmp;
     const auto out = tmp.file("b.las");
