@@ -40,57 +40,73 @@ void write_reports(const BenchReport& r, const std::string& dir) {
     {
         auto md = open_out(dir + "/report.md");
         md << "# mirage bench\n\nMachine: " << r.machine << "\n\n";
-        md << fmt::format("Demo town: {} placed triangles ({} stored), generated in {:.2f} s; BVH (MEDIUM) built in "
-                          "{:.3f} s, {:.1f} MB = {:.1f} bytes per stored triangle.\n\n",
-                          r.triangles_placed, r.unique_triangles, r.scene_seconds, r.bvh_build_seconds,
-                          double(r.bvh_bytes) / 1e6, bpt);
+        md << fmt::format(
+            "Demo town: {} placed triangles ({} stored), generated in {:.2f} s; BVH (MEDIUM) built "
+            "in "
+            "{:.3f} s, {:.1f} MB = {:.1f} bytes per stored triangle.\n\n",
+            r.triangles_placed, r.unique_triangles, r.scene_seconds, r.bvh_build_seconds,
+            double(r.bvh_bytes) / 1e6, bpt);
         md << "## Pipeline against the Embree ceiling (same rays, same threads)\n\n"
-              "| sensor | sub-rays | pulses | pipeline M pulses/s | M points/s | ceiling M pulses/s | ceiling M "
+              "| sensor | sub-rays | pulses | pipeline M pulses/s | M points/s | ceiling M "
+              "pulses/s | ceiling M "
               "rays/s | ratio | × real time |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         for (const auto& t : r.throughput)
-            md << fmt::format("| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.2f} | {:.1f} |\n", t.sensor,
-                              t.sub_rays, t.pulses, t.pipeline_pulses_per_s / 1e6, t.pipeline_points_per_s / 1e6,
-                              t.ceiling_pulses_per_s / 1e6, t.ceiling_rays_per_s / 1e6, t.ratio(), t.x_real_time());
-        md << fmt::format("\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} points).\n\n",
-                          r.las_points_per_s / 1e6, r.las_mb_per_s, r.las_points);
-        md << "## Run time against error (VLP-16, demo drive, noise off; reference: 37 sub-rays, HIGH BVH)\n\n"
-              "| sub-rays | BVH | time s | range RMS mm | range p50 mm | range p95 mm | intensity RMS | return "
+            md << fmt::format(
+                "| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.2f} | {:.1f} |\n",
+                t.sensor, t.sub_rays, t.pulses, t.pipeline_pulses_per_s / 1e6,
+                t.pipeline_points_per_s / 1e6, t.ceiling_pulses_per_s / 1e6,
+                t.ceiling_rays_per_s / 1e6, t.ratio(), t.x_real_time());
+        md << fmt::format(
+            "\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} "
+            "points).\n\n",
+            r.las_points_per_s / 1e6, r.las_mb_per_s, r.las_points);
+        md << "## Run time against error (VLP-16, demo drive, noise off; reference: 37 sub-rays, "
+              "HIGH BVH)\n\n"
+              "| sub-rays | BVH | time s | range RMS mm | range p50 mm | range p95 mm | intensity "
+              "RMS | return "
               "presence differs % |\n|---:|---|---:|---:|---:|---:|---:|---:|\n";
         for (const auto& e : r.errors)
-            md << fmt::format("| {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | {:.3f} |\n", e.sub_rays,
-                              e.quality, e.seconds, e.range_rms_m * 1000.0, e.range_p50_m * 1000.0,
-                              e.range_p95_m * 1000.0, e.intensity_rms, 100.0 * e.presence_mismatch);
+            md << fmt::format("| {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | {:.3f} |\n",
+                              e.sub_rays, e.quality, e.seconds, e.range_rms_m * 1000.0,
+                              e.range_p50_m * 1000.0, e.range_p95_m * 1000.0, e.intensity_rms,
+                              100.0 * e.presence_mismatch);
         if (!r.errors.empty())
-            md << fmt::format("\nReference render time: {:.3f} s.\n", r.errors.front().reference_seconds);
+            md << fmt::format("\nReference render time: {:.3f} s.\n",
+                              r.errors.front().reference_seconds);
     }
     {
         auto js = open_out(dir + "/report.json");
         js << "{\n" << fmt::format("  \"machine\": \"{}\",\n", r.machine);
-        js << fmt::format("  \"scene_seconds\": {}, \"bvh_build_seconds\": {}, \"bvh_bytes\": {},\n", r.scene_seconds,
-                          r.bvh_build_seconds, r.bvh_bytes);
-        js << fmt::format("  \"triangles_placed\": {}, \"triangles_stored\": {}, \"bvh_bytes_per_triangle\": {},\n",
-                          r.triangles_placed, r.unique_triangles, bpt);
-        js << fmt::format("  \"las_points_per_s\": {}, \"las_mb_per_s\": {},\n", r.las_points_per_s, r.las_mb_per_s);
+        js << fmt::format(
+            "  \"scene_seconds\": {}, \"bvh_build_seconds\": {}, \"bvh_bytes\": {},\n",
+            r.scene_seconds, r.bvh_build_seconds, r.bvh_bytes);
+        js << fmt::format(
+            "  \"triangles_placed\": {}, \"triangles_stored\": {}, \"bvh_bytes_per_triangle\": "
+            "{},\n",
+            r.triangles_placed, r.unique_triangles, bpt);
+        js << fmt::format("  \"las_points_per_s\": {}, \"las_mb_per_s\": {},\n", r.las_points_per_s,
+                          r.las_mb_per_s);
         js << "  \"throughput\": [\n";
         for (std::size_t i = 0; i < r.throughput.size(); ++i) {
             const auto& t = r.throughput[i];
             js << fmt::format(
                 "    {{\"sensor\": \"{}\", \"sub_rays\": {}, \"pulses\": {}, \"points\": {}, "
-                "\"pipeline_pulses_per_s\": {}, \"pipeline_points_per_s\": {}, \"ceiling_pulses_per_s\": {}, "
+                "\"pipeline_pulses_per_s\": {}, \"pipeline_points_per_s\": {}, "
+                "\"ceiling_pulses_per_s\": {}, "
                 "\"ceiling_rays_per_s\": {}, \"ratio\": {}, \"x_real_time\": {}}}{}\n",
-                t.sensor, t.sub_rays, t.pulses, t.points, t.pipeline_pulses_per_s, t.pipeline_points_per_s,
-                t.ceiling_pulses_per_s, t.ceiling_rays_per_s, t.ratio(), t.x_real_time(),
-                i + 1 < r.throughput.size() ? "," : "");
+                t.sensor, t.sub_rays, t.pulses, t.points, t.pipeline_pulses_per_s,
+                t.pipeline_points_per_s, t.ceiling_pulses_per_s, t.ceiling_rays_per_s, t.ratio(),
+                t.x_real_time(), i + 1 < r.throughput.size() ? "," : "");
         }
         js << "  ],\n  \"time_vs_error\": [\n";
         for (std::size_t i = 0; i < r.errors.size(); ++i) {
             const auto& e = r.errors[i];
             js << fmt::format(
                 "    {{\"sub_rays\": {}, \"bvh\": \"{}\", \"seconds\": {}, \"range_rms_m\": {}, "
-                "\"range_p50_m\": {}, \"range_p95_m\": {}, \"intensity_rms\": {}, \"presence_mismatch\": {}}}{}\n",
-                e.sub_rays, e.quality, e.seconds, e.range_rms_m, e.range_p50_m, e.range_p95_m, e.intensity_rms,
-                e.presence_mismatch,
-                i + 1 < r.errors.size() ? "," : "");
+                "\"range_p50_m\": {}, \"range_p95_m\": {}, \"intensity_rms\": {}, "
+                "\"presence_mismatch\": {}}}{}\n",
+                e.sub_rays, e.quality, e.seconds, e.range_rms_m, e.range_p50_m, e.range_p95_m,
+                e.intensity_rms, e.presence_mismatch, i + 1 < r.errors.size() ? "," : "");
         }
         js << "  ]\n}\n";
     }
@@ -112,31 +128,39 @@ void write_reports(const BenchReport& r, const std::string& dir) {
             const double l = std::log10(std::max(1e-6, e));
             return T + (H - T - B) * (1.0 - (l - lmin) / std::max(1e-9, lmax - lmin));
         };
-        svg << fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
-                           "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n",
-                           W, H);
-        svg << fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='black'/>\n", L, H - B, W - R, H - B);
-        svg << fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='black'/>\n", L, T, L, H - B);
-        svg << fmt::format("<text x='{}' y='{}' text-anchor='middle'>run time, s</text>\n", (L + W - R) / 2, H - 10);
-        svg << fmt::format("<text x='15' y='{}' transform='rotate(-90 15 {})' text-anchor='middle'>range RMS vs "
-                           "reference, mm (log)</text>\n",
-                           (T + H - B) / 2, (T + H - B) / 2);
+        svg << fmt::format(
+            "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' "
+            "font-family='sans-serif' "
+            "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n",
+            W, H);
+        svg << fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='black'/>\n", L, H - B,
+                           W - R, H - B);
+        svg << fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='black'/>\n", L, T, L,
+                           H - B);
+        svg << fmt::format("<text x='{}' y='{}' text-anchor='middle'>run time, s</text>\n",
+                           (L + W - R) / 2, H - 10);
+        svg << fmt::format(
+            "<text x='15' y='{}' transform='rotate(-90 15 {})' text-anchor='middle'>range RMS vs "
+            "reference, mm (log)</text>\n",
+            (T + H - B) / 2, (T + H - B) / 2);
         for (double l = lmin; l <= lmax; l += 1)
-            svg << fmt::format("<text x='{}' y='{}' text-anchor='end'>{:g}</text>\n", L - 5, Y(std::pow(10, l)) + 4,
-                               std::pow(10, l));
+            svg << fmt::format("<text x='{}' y='{}' text-anchor='end'>{:g}</text>\n", L - 5,
+                               Y(std::pow(10, l)) + 4, std::pow(10, l));
         for (int i = 0; i <= 4; ++i)
-            svg << fmt::format("<text x='{}' y='{}' text-anchor='middle'>{:.2f}</text>\n", X(tmax * 1.1 * i / 4),
-                               H - B + 16, tmax * 1.1 * i / 4);
+            svg << fmt::format("<text x='{}' y='{}' text-anchor='middle'>{:.2f}</text>\n",
+                               X(tmax * 1.1 * i / 4), H - B + 16, tmax * 1.1 * i / 4);
         const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3"};
         for (const auto& e : r.errors) {
             const char* col = colours[e.quality == "low" ? 0 : e.quality == "medium" ? 1 : 2];
             const double x = X(e.seconds), y = Y(std::max(1e-6, e.range_rms_m * 1000.0));
             svg << fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='5' fill='{}'/>\n", x, y, col);
-            svg << fmt::format("<text x='{:.1f}' y='{:.1f}'>{} rays</text>\n", x + 7, y - 4, e.sub_rays);
+            svg << fmt::format("<text x='{:.1f}' y='{:.1f}'>{} rays</text>\n", x + 7, y - 4,
+                               e.sub_rays);
         }
-        svg << fmt::format("<text x='{}' y='18'>VLP-16 run time vs range error; colour = BVH quality "
-                           "(green low, orange medium, purple high)</text>\n</svg>\n",
-                           L);
+        svg << fmt::format(
+            "<text x='{}' y='18'>VLP-16 run time vs range error; colour = BVH quality "
+            "(green low, orange medium, purple high)</text>\n</svg>\n",
+            L);
     }
 }
 

@@ -13,15 +13,20 @@ struct ThroughputRow {
     double real_pulse_rate = 0;
     double pipeline_pulses_per_s = 0, pipeline_points_per_s = 0;
     double ceiling_pulses_per_s = 0, ceiling_rays_per_s = 0;
-    double ratio() const { return ceiling_pulses_per_s > 0 ? pipeline_pulses_per_s / ceiling_pulses_per_s : 0; }
-    double x_real_time() const { return real_pulse_rate > 0 ? pipeline_pulses_per_s / real_pulse_rate : 0; }
+    double ratio() const {
+        return ceiling_pulses_per_s > 0 ? pipeline_pulses_per_s / ceiling_pulses_per_s : 0;
+    }
+    double x_real_time() const {
+        return real_pulse_rate > 0 ? pipeline_pulses_per_s / real_pulse_rate : 0;
+    }
 };
 
 struct ErrorRow {
     int sub_rays = 1;
     std::string quality;
     double seconds = 0, reference_seconds = 0;
-    double range_rms_m = 0, range_p50_m = 0, range_p95_m = 0, intensity_rms = 0, presence_mismatch = 0;
+    double range_rms_m = 0, range_p50_m = 0, range_p95_m = 0, intensity_rms = 0,
+           presence_mismatch = 0;
 };
 
 struct BenchReport {

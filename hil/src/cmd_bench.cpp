@@ -29,7 +29,8 @@ double seconds_since(Clock::time_point t0) {
 
 // Bare Embree on exactly the pipeline's rays: rays are generated per chunk outside the timed
 // region; only renderer.intersect is timed. Returns rays/s over `threads` threads.
-double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses, std::uint64_t& rays_out) {
+double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
+                          std::uint64_t& rays_out) {
     const std::size_t group = std::max<std::uint32_t>(1, job.sensor.scan->group_size());
     const std::size_t chunk = std::max<std::size_t>(group, 8192 / group * group);
     const std::uint64_t chunks = (pulses + chunk - 1) / chunk;
@@ -41,8 +42,10 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses, std
             std::vector<render::Hit> hits;
             for (std::uint64_t c; (c = next++) < chunks;) {
                 const std::uint64_t first = c * chunk;
-                const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, pulses - first));
-                auto r = render::pipeline_rays(job.sensor, job.trajectory, job.mount, job.options.start, first, n);
+                const auto n =
+                    static_cast<std::size_t>(std::min<std::uint64_t>(chunk, pulses - first));
+                auto r = render::pipeline_rays(job.sensor, job.trajectory, job.mount,
+                                               job.options.start, first, n);
                 hits.resize(r.size());
                 const auto t0 = Clock::now();
                 job.renderer->intersect(r, hits);
@@ -68,8 +71,8 @@ PipelineRun run_pipeline_to_null(Job& job, const std::string& null_path) {
     las::LasWriter writer(null_path, job.scene->georef);
     LasSink sink(writer);
     PipelineRun r;
-    r.stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount, job.env,
-                             job.options, sink);
+    r.stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
+                             job.env, job.options, sink);
     writer.close();
     return r;
 }
@@ -80,7 +83,7 @@ struct Sample {
     std::uint16_t intensity;
 };
 class KeepSink : public render::PointSink {
-public:
+  public:
     void write(std::span<const core::PointRecord> pts) override {
         for (const auto& p : pts)
             if (p.return_number == 1) by_pulse.emplace(p.pulse, Sample{p.range_m, p.intensity});
@@ -91,21 +94,26 @@ public:
 }  // namespace
 
 void register_bench(CLI::App& app) {
-    auto* cmd = app.add_subcommand("bench", "Benchmark: pipeline vs Embree ceiling, BVH, LAS rate, time vs error");
+    auto* cmd = app.add_subcommand(
+        "bench", "Benchmark: pipeline vs Embree ceiling, BVH, LAS rate, time vs error");
     struct Opts {
         std::string out_dir = "bench-results";
         int threads = 0;
-        std::string seconds = "3";       // simulated seconds per throughput configuration
+        std::string seconds = "3";  // simulated seconds per throughput configuration
         bool quick = false;
     };
     auto o = std::make_shared<Opts>();
-    cmd->add_option("--out-dir", o->out_dir, "Where report.md, report.json and time_vs_error.svg go")
+    cmd->add_option("--out-dir", o->out_dir,
+                    "Where report.md, report.json and time_vs_error.svg go")
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
-    cmd->add_option("--seconds", o->seconds, "Simulated seconds per throughput run")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
+        ->capture_default_str();
+    cmd->add_option("--seconds", o->seconds, "Simulated seconds per throughput run")
+        ->capture_default_str();
     cmd->add_flag("--quick", o->quick, "Short run for CI (small durations, fewer settings)");
     cmd->callback([o] {
-        const int threads = o->threads > 0 ? o->threads : static_cast<int>(std::thread::hardware_concurrency());
+        const int threads =
+            o->threads > 0 ? o->threads : static_cast<int>(std::thread::hardware_concurrency());
         std::filesystem::create_directories(o->out_dir);
         BenchReport report;
         report.machine = machine_description(threads);
@@ -124,16 +132,19 @@ void register_bench(CLI::App& app) {
         report.bvh_build_seconds = bs.build_seconds;
         report.bvh_bytes = bs.bvh_bytes;
         report.unique_triangles = bs.triangles;
-        fmt::print("demo town: {} placed / {} stored triangles, scene {:.2f} s, BVH {:.3f} s, {:.1f} MB "
-                   "({:.1f} B per stored triangle)\n",
-                   bs.placed_triangles, bs.triangles, scene_s, bs.build_seconds, double(bs.bvh_bytes) / 1e6,
-                   double(bs.bvh_bytes) / double(std::max<std::uint64_t>(1, bs.triangles)));
+        fmt::print(
+            "demo town: {} placed / {} stored triangles, scene {:.2f} s, BVH {:.3f} s, {:.1f} MB "
+            "({:.1f} B per stored triangle)\n",
+            bs.placed_triangles, bs.triangles, scene_s, bs.build_seconds,
+            double(bs.bvh_bytes) / 1e6,
+            double(bs.bvh_bytes) / double(std::max<std::uint64_t>(1, bs.triangles)));
 
         struct Config {
             const char* sensor;
             const char* trajectory;
         };
-        const Config configs[] = {{"vlp16", "demo-car"}, {"hdl64e-s3", "demo-car"}, {"als-mirror", "demo-flight"}};
+        const Config configs[] = {
+            {"vlp16", "demo-car"}, {"hdl64e-s3", "demo-car"}, {"als-mirror", "demo-flight"}};
         const int sub_rays[] = {1, 7, 19};
         for (const auto& c : configs) {
             for (int s : sub_rays) {
@@ -153,17 +164,21 @@ void register_bench(CLI::App& app) {
                 row.real_pulse_rate = job.sensor.scan->pulse_rate_hz();
                 std::uint64_t rays = 0;
                 const double ceiling_rays = ceiling_rays_per_s(job, threads, pulses, rays);
-                row.ceiling_pulses_per_s = ceiling_rays / double(std::max<std::uint64_t>(1, rays)) * double(pulses);
+                row.ceiling_pulses_per_s =
+                    ceiling_rays / double(std::max<std::uint64_t>(1, rays)) * double(pulses);
                 row.ceiling_rays_per_s = ceiling_rays;
                 const auto run = run_pipeline_to_null(job, "/dev/null");
                 row.pipeline_pulses_per_s = double(run.stats.pulses) / run.stats.seconds;
                 row.pipeline_points_per_s = double(run.stats.points) / run.stats.seconds;
                 row.points = run.stats.points;
                 report.throughput.push_back(row);
-                fmt::print("{:>11} sub-rays {:>2}: pipeline {:6.2f} M pulses/s ({:6.2f} M points/s) | ceiling "
-                           "{:6.2f} M pulses/s ({:6.1f} M rays/s) | ratio {:.2f} | {:6.1f}x real time\n",
-                           c.sensor, s, row.pipeline_pulses_per_s / 1e6, row.pipeline_points_per_s / 1e6,
-                           row.ceiling_pulses_per_s / 1e6, ceiling_rays / 1e6, row.ratio(), row.x_real_time());
+                fmt::print(
+                    "{:>11} sub-rays {:>2}: pipeline {:6.2f} M pulses/s ({:6.2f} M points/s) | "
+                    "ceiling "
+                    "{:6.2f} M pulses/s ({:6.1f} M rays/s) | ratio {:.2f} | {:6.1f}x real time\n",
+                    c.sensor, s, row.pipeline_pulses_per_s / 1e6, row.pipeline_points_per_s / 1e6,
+                    row.ceiling_pulses_per_s / 1e6, ceiling_rays / 1e6, row.ratio(),
+                    row.x_real_time());
                 shared.renderer = std::move(job.renderer);
             }
         }
@@ -208,8 +223,9 @@ void register_bench(CLI::App& app) {
                 in.quality = quality;
                 Job job = load_job_with_scene(in, town, scene_s, true);
                 KeepSink keep;
-                const auto st = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
-                                               job.env, job.options, keep);
+                const auto st =
+                    render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
+                                   job.env, job.options, keep);
                 secs = st.seconds;
                 return keep;
             };
@@ -251,14 +267,18 @@ void register_bench(CLI::App& app) {
                         e.range_p95_m = abs_err[abs_err.size() * 95 / 100];
                     }
                     e.intensity_rms = both ? std::sqrt(si / double(both)) : 0.0;
-                    e.presence_mismatch = double(differ) / double(std::max<std::size_t>(1, ref.by_pulse.size()));
+                    e.presence_mismatch =
+                        double(differ) / double(std::max<std::size_t>(1, ref.by_pulse.size()));
                     e.reference_seconds = ref_secs;
                     report.errors.push_back(e);
-                    fmt::print("error vs reference: sub-rays {:>2}, BVH {:>6}: {:.3f} s, range RMS {:.4f} m "
-                               "(p50 {:.2f} mm, p95 {:.1f} mm), intensity RMS {:.1f}, return presence differs "
-                               "{:.2f} %\n",
-                               s, q, e.seconds, e.range_rms_m, e.range_p50_m * 1e3, e.range_p95_m * 1e3,
-                               e.intensity_rms, 100.0 * e.presence_mismatch);
+                    fmt::print(
+                        "error vs reference: sub-rays {:>2}, BVH {:>6}: {:.3f} s, range RMS {:.4f} "
+                        "m "
+                        "(p50 {:.2f} mm, p95 {:.1f} mm), intensity RMS {:.1f}, return presence "
+                        "differs "
+                        "{:.2f} %\n",
+                        s, q, e.seconds, e.range_rms_m, e.range_p50_m * 1e3, e.range_p95_m * 1e3,
+                        e.intensity_rms, 100.0 * e.presence_mismatch);
                 }
             }
         }

@@ -27,7 +27,8 @@ struct DemoRun {
 };
 
 // Range image of the last revolution (spinning) or of the scan lines (airborne).
-void write_range_preview(const std::string& path, const std::vector<core::PointRecord>& points, const Job& job) {
+void write_range_preview(const std::string& path, const std::vector<core::PointRecord>& points,
+                         const Job& job) {
     if (points.empty()) return;
     if (job.sensor.airborne) {
         // Columns = pulses per scan line, from the first two end-of-line flags.
@@ -55,21 +56,22 @@ void write_range_preview(const std::string& path, const std::vector<core::PointR
     for (auto [ch, el] : elevation) order.push_back({-el, ch});
     std::sort(order.begin(), order.end());
     std::map<std::uint16_t, std::uint16_t> row;
-    for (std::size_t i = 0; i < order.size(); ++i) row[order[i].second] = static_cast<std::uint16_t>(i);
+    for (std::size_t i = 0; i < order.size(); ++i)
+        row[order[i].second] = static_cast<std::uint16_t>(i);
     std::vector<core::PointRecord> rev;
     for (const auto& p : points)
         if (last_t - p.t < std::chrono::milliseconds(100)) {
             rev.push_back(p);
             rev.back().channel = row[p.channel];
         }
-    image::write_range_png(path, rev, static_cast<int>(order.size()), 1800, image::RangeImageLayout::Spinning,
+    image::write_range_png(path, rev, static_cast<int>(order.size()), 1800,
+                           image::RangeImageLayout::Spinning,
                            std::max(1, 256 / static_cast<int>(order.size())));
 }
 
 void run_one(const DemoRun& run, const std::string& scene_spec, const std::filesystem::path& dir,
              std::uint64_t seed, int threads, const std::shared_ptr<const scene::Scene>& scene,
-             double scene_seconds,
-             std::unique_ptr<render::EmbreeRenderer>& renderer) {
+             double scene_seconds, std::unique_ptr<render::EmbreeRenderer>& renderer) {
     JobInputs in;
     in.scene = scene_spec;
     in.sensor = run.sensor;
@@ -92,10 +94,12 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     // Reserve up front: growing a multi-gigabyte vector while rendering stalls the writer thread.
     points.reserve(job.sensor.scan->pulse_count(job.options.duration));
     LasSink sink(writer, &points);
-    fmt::print("\n== {}: {} along {} for {} s ==\n", run.name, run.sensor, run.trajectory, run.seconds);
+    fmt::print("\n== {}: {} along {} for {} s ==\n", run.name, run.sensor, run.trajectory,
+               run.seconds);
     ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
-    const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount, job.env,
-                                      job.options, sink, [&](const render::RenderStats& s) { bar.update(s); });
+    const auto stats =
+        render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount, job.env,
+                       job.options, sink, [&](const render::RenderStats& s) { bar.update(s); });
     bar.finish(stats);
     writer.close();
     print_summary(stdout, "demo", job, stats);
@@ -106,15 +110,17 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     image::write_topdown_png(top_h.string(), points, image::TopdownMode::Height);
     image::write_topdown_png(top_i.string(), points, image::TopdownMode::Intensity);
     write_range_preview(range.string(), points, job);
-    fmt::print("  LAS        {}\n  trajectory {}\n  previews   {}\n             {}\n             {}\n",
-               las_path.string(), csv_path.string(), top_h.string(), top_i.string(), range.string());
+    fmt::print(
+        "  LAS        {}\n  trajectory {}\n  previews   {}\n             {}\n             {}\n",
+        las_path.string(), csv_path.string(), top_h.string(), top_i.string(), range.string());
     renderer = std::move(job.renderer);
 }
 
 }  // namespace
 
 void register_demo(CLI::App& app) {
-    auto* cmd = app.add_subcommand("demo", "Render the demo town: VLP-16 car drive and airborne mirror flight");
+    auto* cmd = app.add_subcommand(
+        "demo", "Render the demo town: VLP-16 car drive and airborne mirror flight");
     struct Opts {
         std::string out_dir = ".";
         std::uint64_t seed = 1;
@@ -123,11 +129,14 @@ void register_demo(CLI::App& app) {
         std::string flight_seconds = "6";
     };
     auto o = std::make_shared<Opts>();
-    cmd->add_option("--out-dir", o->out_dir, "Where the LAS files and previews go")->capture_default_str();
+    cmd->add_option("--out-dir", o->out_dir, "Where the LAS files and previews go")
+        ->capture_default_str();
     cmd->add_option("--seed", o->seed, "Town and noise seed")->capture_default_str();
-    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
+        ->capture_default_str();
     cmd->add_option("--car-seconds", o->car_seconds, "Length of the drive")->capture_default_str();
-    cmd->add_option("--flight-seconds", o->flight_seconds, "Length of the flight")->capture_default_str();
+    cmd->add_option("--flight-seconds", o->flight_seconds, "Length of the flight")
+        ->capture_default_str();
     cmd->callback([o] {
         const std::filesystem::path dir = std::filesystem::absolute(o->out_dir).lexically_normal();
         std::filesystem::create_directories(dir);
@@ -135,13 +144,14 @@ void register_demo(CLI::App& app) {
         const std::string scene_spec = fmt::format("demo:{}", o->seed);
         double scene_seconds = 0;
         const auto scene = load_scene_timed(scene_spec, scene_seconds);
-        fmt::print("demo town (seed {}): {} triangles placed, {} materials, generated in {:.2f} s\n", o->seed,
-                   scene->placed_triangle_count(), scene->materials.size(), scene_seconds);
+        fmt::print(
+            "demo town (seed {}): {} triangles placed, {} materials, generated in {:.2f} s\n",
+            o->seed, scene->placed_triangle_count(), scene->materials.size(), scene_seconds);
         std::unique_ptr<render::EmbreeRenderer> renderer;
-        run_one({"vlp16", "vlp16", "demo-car", o->car_seconds.c_str()}, scene_spec, dir, o->seed, o->threads,
-                scene, scene_seconds, renderer);
-        run_one({"als", "als-mirror", "demo-flight", o->flight_seconds.c_str()}, scene_spec, dir, o->seed,
+        run_one({"vlp16", "vlp16", "demo-car", o->car_seconds.c_str()}, scene_spec, dir, o->seed,
                 o->threads, scene, scene_seconds, renderer);
+        run_one({"als", "als-mirror", "demo-flight", o->flight_seconds.c_str()}, scene_spec, dir,
+                o->seed, o->threads, scene, scene_seconds, renderer);
         fmt::print("\nDemo outputs are in {}\n", dir.string());
     });
 }

@@ -14,7 +14,8 @@
 namespace mirage::hil {
 
 void register_render(CLI::App& app) {
-    auto* cmd = app.add_subcommand("render", "Render a scene with a sensor along a trajectory into a LAS file");
+    auto* cmd = app.add_subcommand(
+        "render", "Render a scene with a sensor along a trajectory into a LAS file");
     struct Opts {
         JobInputs job;
         std::string out;
@@ -27,7 +28,8 @@ void register_render(CLI::App& app) {
     cmd->add_option("--format", opts->format, "LAS point format: 1, 3, 6 or 7")
         ->check(CLI::IsMember({1, 3, 6, 7}))
         ->capture_default_str();
-    cmd->add_option("--scale", opts->scale, "LAS coordinate scale in metres")->capture_default_str();
+    cmd->add_option("--scale", opts->scale, "LAS coordinate scale in metres")
+        ->capture_default_str();
     cmd->callback([opts] {
         Job job = load_job(opts->job);
         std::fprintf(stderr, "%s", sensor::describe(job.sensor).c_str());
@@ -39,14 +41,14 @@ void register_render(CLI::App& app) {
         las::LasWriter writer(opts->out, job.scene->georef, lo);
         LasSink sink(writer);
         ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
-        const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
-                                          job.env, job.options, sink,
+        const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
+                                          job.mount, job.env, job.options, sink,
                                           [&](const render::RenderStats& s) { bar.update(s); });
         bar.finish(stats);
         writer.close();
         print_summary(stdout, "render", job, stats);
-        std::printf("  wrote %s (LAS 1.4, point format %d, %llu points)\n", opts->out.c_str(), opts->format,
-                    static_cast<unsigned long long>(writer.points_written()));
+        std::printf("  wrote %s (LAS 1.4, point format %d, %llu points)\n", opts->out.c_str(),
+                    opts->format, static_cast<unsigned long long>(writer.points_written()));
     });
 }
 

@@ -8,7 +8,8 @@
 namespace mirage::hil {
 
 void register_sensors(CLI::App& app) {
-    auto* cmd = app.add_subcommand("sensors", "List sensor presets, or describe one preset or YAML file");
+    auto* cmd =
+        app.add_subcommand("sensors", "List sensor presets, or describe one preset or YAML file");
     auto name = std::make_shared<std::string>();
     cmd->add_option("sensor", *name, "Preset name or sensor YAML to describe");
     cmd->callback([name] {

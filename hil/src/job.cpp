@@ -34,7 +34,9 @@ std::vector<double> split_numbers(const std::string& text, const std::string& wh
     return out;
 }
 
-bool is_demo_scene(const std::string& spec) { return spec == "demo" || spec.rfind("demo:", 0) == 0; }
+bool is_demo_scene(const std::string& spec) {
+    return spec == "demo" || spec.rfind("demo:", 0) == 0;
+}
 
 scene::DemoTownOptions demo_options(const std::string& spec) {
     scene::DemoTownOptions o;
@@ -55,7 +57,8 @@ core::Nanos parse_seconds(const std::string& text, const std::string& what) {
         } else if (ch >= '0' && ch <= '9') {
             digits = true;
             if (!dot) {
-                if (whole > 9'000'000'000LL) throw ConfigError(fmt::format("{}: '{}' is too large", what, text));
+                if (whole > 9'000'000'000LL)
+                    throw ConfigError(fmt::format("{}: '{}' is too large", what, text));
                 whole = whole * 10 + (ch - '0');
             } else if (frac_digits < 9) {
                 frac = frac * 10 + (ch - '0');
@@ -87,7 +90,8 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
     app.add_option("--scene", in.scene, "Scene YAML, or 'demo' / 'demo:<seed>' for the demo town")
         ->capture_default_str();
     if (with_sensor_and_trajectory) {
-        app.add_option("--sensor", in.sensor, "Sensor preset name (see `mirage sensors`) or YAML file")
+        app.add_option("--sensor", in.sensor,
+                       "Sensor preset name (see `mirage sensors`) or YAML file")
             ->capture_default_str();
         app.add_option("--trajectory", in.trajectory,
                        "Trajectory CSV, 'static:x,y,z[,roll,pitch,yaw]' (local m, deg), "
@@ -97,27 +101,39 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
             ->check(CLI::IsMember({"linear", "cubic"}))
             ->capture_default_str();
         app.add_option("--duration", in.duration, "Seconds to render (default: trajectory span)");
-        app.add_option("--start", in.start, "Time of the first pulse: UTC ISO 8601 or gps:<seconds>");
+        app.add_option("--start", in.start,
+                       "Time of the first pulse: UTC ISO 8601 or gps:<seconds>");
     }
-    app.add_option("--seed", in.seed, "Random seed (output is identical for a seed)")->capture_default_str();
-    app.add_option("--threads", in.threads, "Worker threads (0 = all cores)")->capture_default_str();
-    app.add_option("--sub-rays", in.sub_rays, "Footprint sub-rays per pulse: 1, 7, 19, 37 (0 = sensor's)");
+    app.add_option("--seed", in.seed, "Random seed (output is identical for a seed)")
+        ->capture_default_str();
+    app.add_option("--threads", in.threads, "Worker threads (0 = all cores)")
+        ->capture_default_str();
+    app.add_option("--sub-rays", in.sub_rays,
+                   "Footprint sub-rays per pulse: 1, 7, 19, 37 (0 = sensor's)");
     app.add_option("--max-returns", in.max_returns, "Returns kept per pulse (0 = sensor's)");
     app.add_flag("--no-noise", in.no_noise, "Disable range noise, jitter and detector noise");
-    app.add_option("--quality", in.quality, "BVH build quality: low, medium, high")->capture_default_str();
-    app.add_option("--visibility-km", in.visibility_km, "Meteorological visibility (Kim/Kruse extinction)")
+    app.add_option("--quality", in.quality, "BVH build quality: low, medium, high")
         ->capture_default_str();
-    app.add_option("--extinction-per-km", in.extinction_per_km, "Extinction coefficient α, overrides visibility");
-    app.add_option("--sun-elevation-deg", in.sun_elevation_deg, "Sun elevation; ≤ 0 is night (no background)")
+    app.add_option("--visibility-km", in.visibility_km,
+                   "Meteorological visibility (Kim/Kruse extinction)")
+        ->capture_default_str();
+    app.add_option("--extinction-per-km", in.extinction_per_km,
+                   "Extinction coefficient α, overrides visibility");
+    app.add_option("--sun-elevation-deg", in.sun_elevation_deg,
+                   "Sun elevation; ≤ 0 is night (no background)")
         ->capture_default_str();
     app.add_option("--sun-azimuth-deg", in.sun_azimuth_deg, "Sun azimuth, clockwise from north")
         ->capture_default_str();
-    app.add_option("--solar-irradiance", in.solar_irradiance, "Solar spectral irradiance W/(m²·µm) at the laser line")
+    app.add_option("--solar-irradiance", in.solar_irradiance,
+                   "Solar spectral irradiance W/(m²·µm) at the laser line")
         ->capture_default_str();
     app.add_option("--lever-arm", in.lever_arm, "Sensor position in the platform frame: x,y,z m")
-        ->delimiter(',')->expected(3);
-    app.add_option("--boresight", in.boresight, "Sensor attitude in the platform frame: roll,pitch,yaw deg")
-        ->delimiter(',')->expected(3);
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--boresight", in.boresight,
+                   "Sensor attitude in the platform frame: roll,pitch,yaw deg")
+        ->delimiter(',')
+        ->expected(3);
 }
 
 std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, double& seconds) {
@@ -129,18 +145,19 @@ std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, do
 
 Job load_job(const JobInputs& in, bool build_renderer) {
     double seconds = 0;
-    auto scene = load_scene_timed(in.scene, seconds);   // before reading `seconds`
+    auto scene = load_scene_timed(in.scene, seconds);  // before reading `seconds`
     return load_job_with_scene(in, std::move(scene), seconds, build_renderer);
 }
 
-Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene> scene, double scene_seconds,
-                        bool build_renderer) {
+Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene> scene,
+                        double scene_seconds, bool build_renderer) {
     Job job;
     job.scene = std::move(scene);
     job.scene_seconds = scene_seconds;
     job.sensor = sensor::resolve_sensor(in.sensor);
     if (in.sub_rays > 0) {
-        (void)sensor::footprint(in.sub_rays, job.sensor.beam.profile, job.sensor.beam.divergence_rad);
+        (void)sensor::footprint(in.sub_rays, job.sensor.beam.profile,
+                                job.sensor.beam.divergence_rad);
         job.sensor.beam.sub_rays = in.sub_rays;
     }
     if (in.max_returns > 0) job.sensor.receiver.max_returns = in.max_returns;
@@ -149,7 +166,8 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
     core::GpsTime start = core::parse_time("2024-01-01T00:00:00Z");
     const std::string& tspec = in.trajectory;
     core::Nanos span{0};
-    const core::Nanos requested = in.duration.empty() ? core::Nanos(0) : parse_seconds(in.duration, "--duration");
+    const core::Nanos requested =
+        in.duration.empty() ? core::Nanos(0) : parse_seconds(in.duration, "--duration");
     if (!in.start.empty()) start = core::parse_time(in.start);
     if (tspec.empty() || tspec.rfind("static:", 0) == 0) {
         core::Pose pose;
@@ -158,46 +176,52 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
             if (v.size() != 3 && v.size() != 6)
                 throw ConfigError("--trajectory static: expected x,y,z or x,y,z,roll,pitch,yaw");
             pose.position = {v[0], v[1], v[2]};
-            if (v.size() == 6) pose.attitude = core::quaternion_from_rpy(v[3] * kDeg, v[4] * kDeg, v[5] * kDeg);
+            if (v.size() == 6)
+                pose.attitude = core::quaternion_from_rpy(v[3] * kDeg, v[4] * kDeg, v[5] * kDeg);
         }
         job.trajectory = core::Trajectory::fixed(pose);
         span = std::chrono::seconds(1);
     } else if (tspec == "demo-car" || tspec == "demo-flight") {
         if (!is_demo_scene(in.scene))
             throw ConfigError(fmt::format("--trajectory {}: only valid with --scene demo", tspec));
-        const core::Nanos d = requested.count() > 0 ? requested : core::Nanos(std::chrono::seconds(10));
-        job.trajectory = tspec == "demo-car" ? scene::demo_car_trajectory(demo_options(in.scene), start, d)
-                                             : scene::demo_flight_trajectory(demo_options(in.scene), start, d);
+        const core::Nanos d =
+            requested.count() > 0 ? requested : core::Nanos(std::chrono::seconds(10));
+        job.trajectory = tspec == "demo-car"
+                             ? scene::demo_car_trajectory(demo_options(in.scene), start, d)
+                             : scene::demo_flight_trajectory(demo_options(in.scene), start, d);
         span = d;
     } else {
-        job.trajectory = core::load_trajectory_csv(
-            tspec, job.scene->georef,
-            in.interpolation == "linear" ? core::Interpolation::Linear : core::Interpolation::Cubic);
+        job.trajectory =
+            core::load_trajectory_csv(tspec, job.scene->georef,
+                                      in.interpolation == "linear" ? core::Interpolation::Linear
+                                                                   : core::Interpolation::Cubic);
         if (in.start.empty()) start = job.trajectory.begin();
         span = job.trajectory.end() - start;
     }
     job.options.start = start;
     job.options.duration = requested.count() > 0 ? requested : span;
     if (job.options.duration.count() <= 0)
-        throw ConfigError("--duration: nothing to render (duration is zero or the trajectory has one sample)");
+        throw ConfigError(
+            "--duration: nothing to render (duration is zero or the trajectory has one sample)");
     job.options.seed = in.seed;
     job.options.threads = in.threads;
     job.options.noise = !in.no_noise;
 
-    if (in.lever_arm.size() == 3) job.mount.lever_arm_m = {in.lever_arm[0], in.lever_arm[1], in.lever_arm[2]};
+    if (in.lever_arm.size() == 3)
+        job.mount.lever_arm_m = {in.lever_arm[0], in.lever_arm[1], in.lever_arm[2]};
     if (in.boresight.size() == 3)
-        job.mount.boresight = core::quaternion_from_rpy(in.boresight[0] * kDeg, in.boresight[1] * kDeg,
-                                                        in.boresight[2] * kDeg);
+        job.mount.boresight = core::quaternion_from_rpy(
+            in.boresight[0] * kDeg, in.boresight[1] * kDeg, in.boresight[2] * kDeg);
     job.env.atmosphere.extinction_per_m =
-        in.extinction_per_km >= 0
-            ? in.extinction_per_km / 1000.0
-            : physics::Atmosphere::extinction_from_visibility(in.visibility_km * 1000.0,
-                                                              job.sensor.beam.wavelength_m);
+        in.extinction_per_km >= 0 ? in.extinction_per_km / 1000.0
+                                  : physics::Atmosphere::extinction_from_visibility(
+                                        in.visibility_km * 1000.0, job.sensor.beam.wavelength_m);
     job.env.sun.elevation_rad = in.sun_elevation_deg * kDeg;
     job.env.sun.azimuth_rad = in.sun_azimuth_deg * kDeg;
     job.env.sun.irradiance_w_m2_um = in.solar_irradiance;
     if (build_renderer)
-        job.renderer = std::make_unique<render::EmbreeRenderer>(*job.scene, embree_options(in.quality));
+        job.renderer =
+            std::make_unique<render::EmbreeRenderer>(*job.scene, embree_options(in.quality));
     return job;
 }
 

@@ -17,29 +17,29 @@ namespace mirage::hil {
 struct JobInputs {
     std::string scene = "demo";
     std::string sensor = "vlp16";
-    std::string trajectory;            // CSV path, static:x,y,z[,roll,pitch,yaw], demo-car, demo-flight
-    std::string interpolation = "cubic";   // trajectory positions: linear | cubic
-    std::string duration;              // seconds (decimal, exact); empty = trajectory span (or 1 s)
-    std::string start;                 // UTC/GPS time of pulse 0; empty = trajectory start
+    std::string trajectory;  // CSV path, static:x,y,z[,roll,pitch,yaw], demo-car, demo-flight
+    std::string interpolation = "cubic";  // trajectory positions: linear | cubic
+    std::string duration;  // seconds (decimal, exact); empty = trajectory span (or 1 s)
+    std::string start;     // UTC/GPS time of pulse 0; empty = trajectory start
     std::uint64_t seed = 1;
     int threads = 0;
-    int sub_rays = 0;                  // 0 = the sensor's own
-    int max_returns = 0;               // 0 = the sensor's own
+    int sub_rays = 0;     // 0 = the sensor's own
+    int max_returns = 0;  // 0 = the sensor's own
     bool no_noise = false;
-    std::string quality = "medium";    // BVH: low | medium | high
+    std::string quality = "medium";  // BVH: low | medium | high
     double visibility_km = 23.0;
-    double extinction_per_km = -1;     // overrides visibility when ≥ 0
+    double extinction_per_km = -1;  // overrides visibility when ≥ 0
     double sun_elevation_deg = 45.0;
     double sun_azimuth_deg = 180.0;
-    double solar_irradiance = 700.0;   // W/(m²·µm) normal to the sun
-    std::vector<double> lever_arm;     // x,y,z m
-    std::vector<double> boresight;     // roll,pitch,yaw deg
+    double solar_irradiance = 700.0;  // W/(m²·µm) normal to the sun
+    std::vector<double> lever_arm;    // x,y,z m
+    std::vector<double> boresight;    // roll,pitch,yaw deg
 };
 
 void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajectory = true);
 
 struct Job {
-    std::shared_ptr<const scene::Scene> scene;   // shared: renderers keep pointers into it
+    std::shared_ptr<const scene::Scene> scene;  // shared: renderers keep pointers into it
     sensor::SensorModel sensor;
     core::Trajectory trajectory = core::Trajectory::fixed({});
     core::Mount mount;
@@ -52,8 +52,8 @@ struct Job {
 // Loads scene, sensor and trajectory, builds the BVH. Throws ConfigError on bad inputs.
 Job load_job(const JobInputs& in, bool build_renderer = true);
 // Same with a scene already loaded (moved into the job).
-Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene> scene, double scene_seconds,
-                        bool build_renderer = true);
+Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene> scene,
+                        double scene_seconds, bool build_renderer = true);
 std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, double& seconds);
 // Exact decimal seconds -> ns ("1.5" -> 1'500'000'000); throws ConfigError naming `what`.
 core::Nanos parse_seconds(const std::string& text, const std::string& what);

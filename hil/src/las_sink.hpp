@@ -9,7 +9,7 @@ namespace mirage::hil {
 
 // Pipeline output to a LAS file, optionally keeping a copy of the points (for previews).
 class LasSink : public render::PointSink {
-public:
+  public:
     LasSink(las::LasWriter& writer, std::vector<core::PointRecord>* keep = nullptr)
         : writer_(writer), keep_(keep) {}
     void write(std::span<const core::PointRecord> points) override {
@@ -17,14 +17,14 @@ public:
         if (keep_) keep_->insert(keep_->end(), points.begin(), points.end());
     }
 
-private:
+  private:
     las::LasWriter& writer_;
     std::vector<core::PointRecord>* keep_;
 };
 
 // Counts and discards (benchmarks: encoding cost without I/O is measured separately).
 class NullSink : public render::PointSink {
-public:
+  public:
     void write(std::span<const core::PointRecord> points) override { count += points.size(); }
     std::uint64_t count = 0;
 };

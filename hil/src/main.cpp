@@ -9,7 +9,8 @@
 #include "mirage/core/error.hpp"
 
 int main(int argc, char** argv) {
-    CLI::App app{"Mirage: real-time lidar emulator (Embree ray casting, seed-001 physics, LAS output)"};
+    CLI::App app{
+        "Mirage: real-time lidar emulator (Embree ray casting, seed-001 physics, LAS output)"};
     app.require_subcommand(1);
     mirage::hil::register_render(app);
     mirage::hil::register_demo(app);

@@ -31,8 +31,9 @@ void ProgressBar::draw(const render::RenderStats& s, bool final) {
     const int filled = static_cast<int>(frac * kWidth);
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(kWidth, '.');
-    const std::string line = fmt::format("[{}] {:5.1f}%  {:.2f} Mpulses/s  {:.2f} Mpoints/s  ETA {:.1f} s",
-                                         bar, frac * 100.0, pps / 1e6, ptps / 1e6, eta);
+    const std::string line =
+        fmt::format("[{}] {:5.1f}%  {:.2f} Mpulses/s  {:.2f} Mpoints/s  ETA {:.1f} s", bar,
+                    frac * 100.0, pps / 1e6, ptps / 1e6, eta);
     if (tty_)
         std::fprintf(stderr, "\r%s%s", line.c_str(), final ? "\n" : "");
     else

@@ -106,7 +106,8 @@ TEST(Georef, unknown_or_unprojected_codes_are_config_errors) {
     EXPECT_EQ(unknown.rfind("georef: EPSG:99999: ", 0), 0u) << unknown;
     std::printf("unknown code: %s\n", unknown.c_str());
     const std::string geographic = message_of([] { Georef::projected(4326, {0, 0, 0}); });
-    EXPECT_EQ(geographic.rfind("georef: EPSG:4326: not a projected or geocentric CRS", 0), 0u) << geographic;
+    EXPECT_EQ(geographic.rfind("georef: EPSG:4326: not a projected or geocentric CRS", 0), 0u)
+        << geographic;
     const std::string geodetic = message_of([] { Georef::geodetic(45, 9, 0, 99999); });
     EXPECT_EQ(geodetic.rfind("georef: EPSG:99999: ", 0), 0u) << geodetic;
     EXPECT_THROW(Georef::geodetic(91, 0, 0), mirage::ConfigError);

@@ -9,7 +9,7 @@ namespace mirage::test {
 
 struct RunResult {
     int exit_code = -1;
-    std::string output;   // stdout and stderr
+    std::string output;  // stdout and stderr
 };
 
 // Runs `mirage <args>` through the shell and captures its output and exit status.

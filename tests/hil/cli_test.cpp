@@ -22,7 +22,8 @@ TEST(Cli, every_subcommand_has_help) {
 TEST(Cli, render_writes_a_valid_las_with_a_summary) {
     TempDir tmp;
     const auto out = tmp.file("a.las");
-    const auto r = run_mirage("render --scene demo --sensor vlp16 --trajectory demo-car --duration 0.2 --out " + out);
+    const auto r = run_mirage(
+        "render --scene demo --sensor vlp16 --trajectory demo-car --duration 0.2 --out " + out);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("pulses"), std::string::npos);
     EXPECT_NE(r.output.find("voids"), std::string::npos);
@@ -46,8 +47,8 @@ TEST(Cli, render_follows_a_csv_trajectory_with_either_interpolation) {
                           "1388534420.0,10,0,10,0,0,20\n";
     for (const char* interp : {"linear", "cubic"}) {
         const auto out = tmp.file(std::string(interp) + ".las");
-        const auto r = run_mirage("render --scene demo --sensor vlp16 --trajectory " + csv + " --interpolation " +
-                                  interp + " --out " + out);
+        const auto r = run_mirage("render --scene demo --sensor vlp16 --trajectory " + csv +
+                                  " --interpolation " + interp + " --out " + out);
         ASSERT_EQ(r.exit_code, 0) << r.output;
         const auto f = las::LasFile::read(out);
         EXPECT_TRUE(f.validate().empty());
@@ -71,7 +72,8 @@ TEST(Cli, bad_inputs_fail_with_a_clear_message_and_nonzero_exit) {
     EXPECT_NE(r.output.find("--duration"), std::string::npos) << r.output;
     r = run_mirage("render --scene demo --sensor vlp16 --format 5 --out " + out);
     EXPECT_NE(r.exit_code, 0);
-    r = run_mirage("render --scene demo --sensor vlp16 --duration 0.01 --out /nonexistent-dir/x.las");
+    r = run_mirage(
+        "render --scene demo --sensor vlp16 --duration 0.01 --out /nonexistent-dir/x.las");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find("/nonexistent-dir/x.las"), std::string::npos) << r.output;
     // las-info on a file that is not LAS.

@@ -8,9 +8,9 @@
 #include <numbers>
 #include <random>
 
+#include "error_stats.hpp"
 #include "mirage/las/las_reader.hpp"
 #include "mirage/las/las_writer.hpp"
-#include "error_stats.hpp"
 #include "pipeline_fixtures.hpp"
 #include "test_paths.hpp"
 
@@ -44,7 +44,7 @@ Eigen::Affine3d plane_frame(double d, double tilt) {
     Eigen::Affine3d f = Eigen::Affine3d::Identity();
     f.translate(Eigen::Vector3d(d, 0, 0));
     f.rotate(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitZ()));
-    f.rotate(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));   // z -> −x
+    f.rotate(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));  // z -> −x
     return f;
 }
 
@@ -58,7 +58,8 @@ TEST(PipelineAccuracy, plane_ranges_within_half_millimetre_rms_up_to_200_m) {
             const auto dirs = cone(2000, 10 * kDeg, 7);
             auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 1000));
             VectorSink sink;
-            const auto stats = render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()), sink);
+            const auto stats = render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {},
+                                              quiet(dirs.size()), sink);
             const Eigen::Vector3d n = f.linear() * Eigen::Vector3d::UnitZ(), p0 = f.translation();
             ErrorStats err;
             for (const auto& p : sink.points) {
@@ -67,15 +68,18 @@ TEST(PipelineAccuracy, plane_ranges_within_half_millimetre_rms_up_to_200_m) {
                 if (t > 200.0) continue;
                 err.add((Eigen::Vector3d(p.x, p.y, p.z) - t * dir).norm());
             }
-            EXPECT_GT(err.n, 1000u) << "d " << d << " tilt " << tilt_deg << " pulses " << stats.pulses;
+            EXPECT_GT(err.n, 1000u)
+                << "d " << d << " tilt " << tilt_deg << " pulses " << stats.pulses;
             EXPECT_LE(err.rms(), 0.5e-3) << "d " << d << " tilt " << tilt_deg;
             EXPECT_LE(err.max_abs, 2e-3) << "d " << d << " tilt " << tilt_deg;
             worst_rms = std::max(worst_rms, err.rms());
             worst_max = std::max(worst_max, err.max_abs);
         }
     }
-    std::printf("plane 1-190 m, tilt 0-75 deg (incidence to 85 deg): worst RMS %.4f mm, worst max %.4f mm\n",
-                worst_rms * 1e3, worst_max * 1e3);
+    std::printf(
+        "plane 1-190 m, tilt 0-75 deg (incidence to 85 deg): worst RMS %.4f mm, worst max %.4f "
+        "mm\n",
+        worst_rms * 1e3, worst_max * 1e3);
 }
 
 TEST(PipelineAccuracy, sphere_and_box_corner_match_double_precision_truth) {
@@ -89,9 +93,10 @@ TEST(PipelineAccuracy, sphere_and_box_corner_match_double_precision_truth) {
     for (int j = 0; j <= nv; ++j)
         for (int i = 0; i < nu; ++i) {
             const double th = std::numbers::pi * j / nv, ph = 2 * std::numbers::pi * i / nu;
-            sphere.vertices.push_back((c + 20.0 * Eigen::Vector3d(std::sin(th) * std::cos(ph),
-                                                                   std::sin(th) * std::sin(ph), std::cos(th)))
-                                          .cast<float>());
+            sphere.vertices.push_back(
+                (c + 20.0 * Eigen::Vector3d(std::sin(th) * std::cos(ph),
+                                            std::sin(th) * std::sin(ph), std::cos(th)))
+                    .cast<float>());
         }
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) {
@@ -108,8 +113,8 @@ TEST(PipelineAccuracy, sphere_and_box_corner_match_double_precision_truth) {
         Eigen::Vector3d e1 = Eigen::Vector3d::Zero(), e2 = Eigen::Vector3d::Zero();
         e1[(axis + 1) % 3] = 10;
         e2[(axis + 2) % 3] = 10;
-        for (const auto& v : {corner, Eigen::Vector3d(corner + e1), Eigen::Vector3d(corner + e1 + e2),
-                              Eigen::Vector3d(corner + e2)})
+        for (const auto& v : {corner, Eigen::Vector3d(corner + e1),
+                              Eigen::Vector3d(corner + e1 + e2), Eigen::Vector3d(corner + e2)})
             face.vertices.push_back(v.cast<float>());
         face.triangles = {{0, 1, 2}, {0, 2, 3}};
         face.materials = {0, 0};
@@ -119,13 +124,15 @@ TEST(PipelineAccuracy, sphere_and_box_corner_match_double_precision_truth) {
     render::BruteForceRenderer truth(s);
     std::vector<Eigen::Vector3f> dirs = cone(3000, 9 * kDeg, 11);
     for (std::size_t i = 0; i < 2000; ++i) {
-        const Eigen::Vector3d target = corner + Eigen::Vector3d(0.01 * double(i % 40) + 0.001, 0.01 * double(i / 40 % 40),
-                                                                0.2 * double(i / 1600));
+        const Eigen::Vector3d target =
+            corner + Eigen::Vector3d(0.01 * double(i % 40) + 0.001, 0.01 * double(i / 40 % 40),
+                                     0.2 * double(i / 1600));
         dirs.push_back(target.normalized().cast<float>());
     }
     auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 1000));
     VectorSink sink;
-    render::render(s, embree, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()), sink);
+    render::render(s, embree, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()),
+                   sink);
     std::vector<render::Ray> rays(dirs.size());
     for (std::size_t i = 0; i < dirs.size(); ++i) {
         rays[i].dx = dirs[i].x();
@@ -147,9 +154,11 @@ TEST(PipelineAccuracy, sphere_and_box_corner_match_double_precision_truth) {
     EXPECT_LE(sphere_err.max_abs, 2e-3);
     EXPECT_LE(box_err.rms(), 0.5e-3);
     EXPECT_LE(box_err.max_abs, 2e-3);
-    std::printf("sphere: %zu points RMS %.4f mm max %.4f mm; box corner: %zu points RMS %.4f mm max %.4f mm\n",
-                sphere_err.n, sphere_err.rms() * 1e3, sphere_err.max_abs * 1e3, box_err.n, box_err.rms() * 1e3,
-                box_err.max_abs * 1e3);
+    std::printf(
+        "sphere: %zu points RMS %.4f mm max %.4f mm; box corner: %zu points RMS %.4f mm max %.4f "
+        "mm\n",
+        sphere_err.n, sphere_err.rms() * 1e3, sphere_err.max_abs * 1e3, box_err.n,
+        box_err.rms() * 1e3, box_err.max_abs * 1e3);
 }
 
 // Through the LAS file at large magnitudes: range from the written world coordinates.
@@ -169,7 +178,8 @@ void check_anchor(const core::Georef& georef, const char* label) {
             explicit Sink(las::LasWriter& x) : w(x) {}
             void write(std::span<const core::PointRecord> p) override { w.write(p); }
         } sink(w);
-        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()), sink);
+        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()),
+                       sink);
         w.close();
     }
     const auto file = las::LasFile::read(path);
@@ -186,7 +196,8 @@ void check_anchor(const core::Georef& georef, const char* label) {
     EXPECT_GT(err.n, 4000u) << label;
     EXPECT_LE(err.rms(), 0.5e-3) << label;
     EXPECT_LE(err.max_abs, 2e-3) << label;
-    std::printf("%s: %zu points, range RMS %.3f mm, max %.3f mm\n", label, err.n, err.rms() * 1e3, err.max_abs * 1e3);
+    std::printf("%s: %zu points, range RMS %.3f mm, max %.3f mm\n", label, err.n, err.rms() * 1e3,
+                err.max_abs * 1e3);
 }
 
 TEST(PipelineAccuracy, utm_magnitude_anchor_keeps_half_millimetre_through_las) {
@@ -194,7 +205,8 @@ TEST(PipelineAccuracy, utm_magnitude_anchor_keeps_half_millimetre_through_las) {
 }
 
 TEST(PipelineAccuracy, ecef_magnitude_anchor_keeps_half_millimetre_through_las) {
-    check_anchor(core::Georef::projected(4978, {4.4e6, 0.78e6, 4.5e6}), "ECEF");   // |anchor| ≈ 6.34e6 m
+    check_anchor(core::Georef::projected(4978, {4.4e6, 0.78e6, 4.5e6}),
+                 "ECEF");  // |anchor| ≈ 6.34e6 m
 }
 
 TEST(PipelineAccuracy, received_power_equals_closed_form_range_equation) {
@@ -207,16 +219,20 @@ TEST(PipelineAccuracy, received_power_equals_closed_form_range_equation) {
             const auto scene = plane_scene(1000.0, f, 0.37);
             render::EmbreeRenderer r(scene);
             // One pulse at the plane's centre: range d / cos? No: straight at the anchor point.
-            auto sensor = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
+            auto sensor =
+                test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
             VectorSink sink;
             render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(1), sink);
             ASSERT_EQ(sink.points.size(), 1u) << d << " " << inc;
-            const double expect = rad.laser_electrons(rad.closed_form_lambertian_w(d, 0.37, std::cos(inc * kDeg)));
-            EXPECT_NEAR(sink.points[0].n_laser / expect, 1.0, 1e-3) << "range " << d << " incidence " << inc;
+            const double expect =
+                rad.laser_electrons(rad.closed_form_lambertian_w(d, 0.37, std::cos(inc * kDeg)));
+            EXPECT_NEAR(sink.points[0].n_laser / expect, 1.0, 1e-3)
+                << "range " << d << " incidence " << inc;
             worst = std::max(worst, std::abs(sink.points[0].n_laser / expect - 1.0));
         }
     }
-    std::printf("received power vs closed form, 1-200 m, 0-80 deg: worst relative error %.2e\n", worst);
+    std::printf("received power vs closed form, 1-200 m, 0-80 deg: worst relative error %.2e\n",
+                worst);
 }
 
 }  // namespace

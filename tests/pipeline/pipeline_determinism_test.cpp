@@ -35,9 +35,10 @@ std::string render_file(const TempDir& tmp, const std::string& name, int threads
     opt.threads = threads;
     opt.chunk_pulses = chunk;
     opt.duration = std::chrono::milliseconds(200);
-    std::vector<core::StampedPose> samples{{core::GpsTime{}, {{0, 0, 1.8}, core::quaternion_from_rpy(0, 0, 0)}},
-                                           {core::GpsTime{} + std::chrono::seconds(1),
-                                            {{10, 2, 1.8}, core::quaternion_from_rpy(0.01, 0, 1.0)}}};
+    std::vector<core::StampedPose> samples{
+        {core::GpsTime{}, {{0, 0, 1.8}, core::quaternion_from_rpy(0, 0, 0)}},
+        {core::GpsTime{} + std::chrono::seconds(1),
+         {{10, 2, 1.8}, core::quaternion_from_rpy(0.01, 0, 1.0)}}};
     const auto path = tmp.file(name);
     las::LasWriter w(path, s.georef);
     struct Sink : render::PointSink {

@@ -13,7 +13,7 @@ namespace mirage::test {
 
 // Pulse k fires direction dirs[k % n] at t = k · period.
 class FanPattern : public sensor::ScanPattern {
-public:
+  public:
     FanPattern(std::vector<Eigen::Vector3f> dirs, std::int64_t period_ns)
         : dirs_(std::move(dirs)), period_ns_(period_ns) {}
     std::string kind() const override { return "fan"; }
@@ -33,7 +33,7 @@ public:
     std::uint32_t channels() const override { return static_cast<std::uint32_t>(dirs_.size()); }
     std::uint32_t group_size() const override { return 1; }
 
-private:
+  private:
     std::vector<Eigen::Vector3f> dirs_;
     std::int64_t period_ns_;
 };
@@ -63,7 +63,8 @@ inline scene::Mesh quad(double size, const Eigen::Affine3d& frame) {
     return m;
 }
 
-inline scene::Scene plane_scene(double size, const Eigen::Affine3d& frame, double reflectance = 0.5) {
+inline scene::Scene plane_scene(double size, const Eigen::Affine3d& frame,
+                                double reflectance = 0.5) {
     scene::Scene s;
     scene::Material m;
     m.name = "grey";
@@ -75,23 +76,27 @@ inline scene::Scene plane_scene(double size, const Eigen::Affine3d& frame, doubl
 }
 
 class VectorSink : public render::PointSink {
-public:
-    void write(std::span<const core::PointRecord> p) override { points.insert(points.end(), p.begin(), p.end()); }
+  public:
+    void write(std::span<const core::PointRecord> p) override {
+        points.insert(points.end(), p.begin(), p.end());
+    }
     std::vector<core::PointRecord> points;
 };
 
 // Streams points to a callback without keeping them (1e6-sample statistics).
 class CallbackSink : public render::PointSink {
-public:
+  public:
     explicit CallbackSink(std::function<void(const core::PointRecord&)> f) : f_(std::move(f)) {}
     void write(std::span<const core::PointRecord> p) override {
         for (const auto& x : p) f_(x);
     }
 
-private:
+  private:
     std::function<void(const core::PointRecord&)> f_;
 };
 
-inline Eigen::Vector3f unit(double x, double y, double z) { return Eigen::Vector3d(x, y, z).normalized().cast<float>(); }
+inline Eigen::Vector3f unit(double x, double y, double z) {
+    return Eigen::Vector3d(x, y, z).normalized().cast<float>();
+}
 
 }  // namespace mirage::test

@@ -27,7 +27,7 @@ TEST(PipelineMotion, every_point_lies_on_geometry_at_its_firing_time) {
         const double az = a * std::numbers::pi / 180.0;
         dirs.push_back(unit(std::cos(az), -std::sin(az), -0.35));
     }
-    auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 10'000));   // 100 kHz
+    auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 10'000));  // 100 kHz
     // Samples every 10 ms; linear position and constant-axis slerp are exact for this motion.
     std::vector<core::StampedPose> samples;
     for (int i = 0; i <= 300; ++i) {
@@ -49,15 +49,16 @@ TEST(PipelineMotion, every_point_lies_on_geometry_at_its_firing_time) {
         const Eigen::Vector3d fired = dirs[p.pulse % dirs.size()].cast<double>().normalized();
         worst_dir = std::max(worst_dir, (local - double(p.range_m) * fired).norm());
     }
-    std::printf("moving sensor: worst distance to plane %.4f mm, worst re-projection %.4f mm\n", worst_plane * 1e3,
-                worst_dir * 1e3);
+    std::printf("moving sensor: worst distance to plane %.4f mm, worst re-projection %.4f mm\n",
+                worst_plane * 1e3, worst_dir * 1e3);
     EXPECT_LE(worst_plane, 1e-3);
     EXPECT_LE(worst_dir, 1e-3);
     // The motion is real: a whole-frame pose would misplace points by metres.
     const core::Pose frame = truth(core::Nanos(0));
     double worst_frame = 0;
     for (const auto& p : sink.points) {
-        const Eigen::Vector3d wrong = frame.apply(double(p.range_m) * dirs[p.pulse % dirs.size()].cast<double>().normalized());
+        const Eigen::Vector3d wrong = frame.apply(
+            double(p.range_m) * dirs[p.pulse % dirs.size()].cast<double>().normalized());
         worst_frame = std::max(worst_frame, (wrong - Eigen::Vector3d(p.x, p.y, p.z)).norm());
     }
     EXPECT_GT(worst_frame, 10.0);

@@ -55,14 +55,16 @@ TEST(PipelineNoise, range_noise_and_jitter_sigmas_within_one_percent) {
         // The reported range is the noisy range along the jittered direction.
         range.add(double(p.range_m) - d);
     });
-    const auto stats = render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, noisy(), sink);
+    const auto stats =
+        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, noisy(), sink);
     ASSERT_EQ(stats.points, kPulses);
-    std::printf("range sigma %.5f m (0.05), jitter sigma %.6f / %.6f rad (0.001), means %.2e %.2e %.2e\n",
-                range.sigma(), ax.sigma(), ay.sigma(), range.mean(), ax.mean(), ay.mean());
+    std::printf(
+        "range sigma %.5f m (0.05), jitter sigma %.6f / %.6f rad (0.001), means %.2e %.2e %.2e\n",
+        range.sigma(), ax.sigma(), ay.sigma(), range.mean(), ax.mean(), ay.mean());
     EXPECT_NEAR(range.sigma() / 0.05, 1.0, 0.01);
     EXPECT_NEAR(ax.sigma() / 1e-3, 1.0, 0.01);
     EXPECT_NEAR(ay.sigma() / 1e-3, 1.0, 0.01);
-    EXPECT_NEAR(range.mean(), 0.0, 5 * 0.05 / 1000.0);   // 5 standard errors
+    EXPECT_NEAR(range.mean(), 0.0, 5 * 0.05 / 1000.0);  // 5 standard errors
 }
 
 TEST(PipelineNoise, void_fraction_matches_closed_form_prediction) {
@@ -76,10 +78,19 @@ TEST(PipelineNoise, void_fraction_matches_closed_form_prediction) {
     env.sun.elevation_rad = 0.7;
     env.sun.irradiance_w_m2_um = 700.0;
     // Choose σ₁ so the void threshold sits at |z| = 1 (prediction ≈ 31.7 %).
-    physics::Radiometry unit_noise([&] { auto b = sensor.beam; return b; }(),
-                                   [&] { auto rx = sensor.receiver; rx.noise_irradiance_sigma = 1.0; return rx; }(),
-                                   env);
-    const double n_laser = unit_noise.laser_electrons(unit_noise.closed_form_lambertian_w(d, 0.2, 1.0));
+    physics::Radiometry unit_noise(
+        [&] {
+            auto b = sensor.beam;
+            return b;
+        }(),
+        [&] {
+            auto rx = sensor.receiver;
+            rx.noise_irradiance_sigma = 1.0;
+            return rx;
+        }(),
+        env);
+    const double n_laser =
+        unit_noise.laser_electrons(unit_noise.closed_form_lambertian_w(d, 0.2, 1.0));
     const double cos_sun = std::abs(env.sun.to_sun_enu().dot(Eigen::Vector3d(1, 0, 0)));
     const double n_other = unit_noise.background_electrons(d, 0.2 / std::numbers::pi, cos_sun);
     const double rhs = std::pow(n_laser / 3.0, 2) - n_laser - n_other;
@@ -89,10 +100,11 @@ TEST(PipelineNoise, void_fraction_matches_closed_form_prediction) {
     const double predicted = rad.void_probability(n_laser, n_other);
     std::uint64_t kept = 0;
     CallbackSink sink([&](const core::PointRecord&) { ++kept; });
-    const auto stats = render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, env, noisy(), sink);
+    const auto stats =
+        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, env, noisy(), sink);
     const double measured = double(stats.voids) / double(stats.pulses);
-    std::printf("void fraction %.5f, predicted %.5f (n_laser %.1f, n_other %.3g)\n", measured, predicted, n_laser,
-                n_other);
+    std::printf("void fraction %.5f, predicted %.5f (n_laser %.1f, n_other %.3g)\n", measured,
+                predicted, n_laser, n_other);
     EXPECT_EQ(stats.voids + kept, kPulses);
     EXPECT_NEAR(predicted, 0.3173, 0.01);
     EXPECT_NEAR(measured / predicted, 1.0, 0.01);

@@ -12,8 +12,8 @@ namespace mirage::test {
 namespace {
 
 bool finite(const core::PointRecord& p) {
-    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.range_m) &&
-           std::isfinite(p.n_laser);
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+           std::isfinite(p.range_m) && std::isfinite(p.n_laser);
 }
 
 TEST(PipelineStress, extreme_geometry_and_time_give_finite_output) {
@@ -42,9 +42,9 @@ TEST(PipelineStress, extreme_geometry_and_time_give_finite_output) {
         const double el = -(90.0 - inc) * std::numbers::pi / 180.0;
         dirs.push_back(unit(std::cos(el), 0, std::sin(el)));
     }
-    dirs.push_back(unit(1, 0, 0));   // horizontal: tiny triangles at 0.1 m
-    dirs.push_back(unit(0, 0, 1));   // sky
-    auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 500'000'000));   // 2 Hz
+    dirs.push_back(unit(1, 0, 0));  // horizontal: tiny triangles at 0.1 m
+    dirs.push_back(unit(0, 0, 1));  // sky
+    auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 500'000'000));  // 2 Hz
     sensor.receiver.min_range_m = 0.05;
     sensor.receiver.max_range_m = 2000.0;
     sensor.noise.range_sigma_m = 0.02;
@@ -55,7 +55,7 @@ TEST(PipelineStress, extreme_geometry_and_time_give_finite_output) {
     const core::GpsTime t0 = core::parse_time("2024-06-30T12:00:00Z");
     std::vector<core::StampedPose> samples;
     for (int i = 0; i <= 24 * 60; ++i) {
-        const double yaw = std::remainder(double(i) * 0.37, 2 * std::numbers::pi);   // wraps
+        const double yaw = std::remainder(double(i) * 0.37, 2 * std::numbers::pi);  // wraps
         samples.push_back({t0 + std::chrono::minutes(i),
                            {{0.0, 0.0, 1.0}, core::quaternion_from_rpy(0.0, 0.0, yaw)}});
     }
@@ -73,9 +73,10 @@ TEST(PipelineStress, extreme_geometry_and_time_give_finite_output) {
         if (p.t < t0 || p.t > t0 + std::chrono::hours(24)) ++bad;
     });
     const auto stats = render::render(s, r, sensor, traj, {}, {}, opt, sink);
-    std::printf("stress: %llu pulses, %llu points (%llu beyond 500 m, %llu within 0.2 m), %llu misses\n",
-                (unsigned long long)stats.pulses, (unsigned long long)points, (unsigned long long)far,
-                (unsigned long long)near, (unsigned long long)stats.misses);
+    std::printf(
+        "stress: %llu pulses, %llu points (%llu beyond 500 m, %llu within 0.2 m), %llu misses\n",
+        (unsigned long long)stats.pulses, (unsigned long long)points, (unsigned long long)far,
+        (unsigned long long)near, (unsigned long long)stats.misses);
     EXPECT_EQ(stats.pulses, 24ull * 3600 * 2);
     EXPECT_EQ(bad, 0u);
     EXPECT_GT(far, 0u);

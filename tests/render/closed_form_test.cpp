@@ -22,7 +22,7 @@ std::string config_name(const ::testing::TestParamInfo<Config>& info) {
 }
 
 class ClosedForm : public ::testing::TestWithParam<Config> {
-protected:
+  protected:
     EmbreeOptions options() const {
         EmbreeOptions o;
         o.api = GetParam().api;

@@ -20,7 +20,7 @@ scene::Mesh panel() {
 }
 
 class Normals : public ::testing::TestWithParam<TraceApi> {
-protected:
+  protected:
     EmbreeOptions options() const {
         EmbreeOptions o;
         o.api = GetParam();

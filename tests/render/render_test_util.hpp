@@ -2,7 +2,6 @@
 // Shared helpers of the render tests: scene builders, ray makers, an independent double-precision
 // ray/triangle analyser (for ambiguity classification) and error statistics.
 #pragma once
-#include "error_stats.hpp"
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -12,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "error_stats.hpp"
 #include "mirage/render/embree_renderer.hpp"
 #include "mirage/render/renderer.hpp"
 #include "mirage/scene/scene.hpp"

@@ -101,7 +101,6 @@ TEST(Heightfield, eight_bit_pgm_uses_one_byte_per_sample) {
     EXPECT_DOUBLE_EQ(g.at(1, 1), 10);
 }
 
-
 TEST(Heightfield, malformed_rasters_name_the_file_and_line) {
     expect_error(
         [] {

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // Geometry helpers shared by the scene tests.
 #pragma once
-#include <Eigen/Geometry>
-#include <map>
-#include <utility>
-
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <initializer_list>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "mirage/core/error.hpp"
 #include "mirage/scene/scene.hpp"

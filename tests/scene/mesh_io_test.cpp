@@ -20,7 +20,6 @@ std::string fixture(const std::string& name) {
     return (test::source_dir() / "recordings" / "scenes" / name).string();
 }
 
-
 Mesh obj(const std::string& text, LoadStats* stats = nullptr) {
     LoadStats local;
     MaterialBinding b;

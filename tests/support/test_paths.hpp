@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
-#include <cstdlib>
 
 namespace mirage::test {
 
@@ -21,7 +21,7 @@ inline std::filesystem::path source_dir() { return MIRAGE_SOURCE_DIR; }
 
 // A fresh temporary folder per test, removed at the end.
 class TempDir {
-public:
+  public:
     TempDir() {
         auto base = std::filesystem::temp_directory_path();
         for (int i = 0;; ++i) {
@@ -36,7 +36,7 @@ public:
     const std::filesystem::path& path() const { return path_; }
     std::string file(const std::string& name) const { return (path_ / name).string(); }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 

@@ -119,7 +119,8 @@ RgbImage render_range(std::span<const core::PointRecord> pts, int rows, int cols
         const RgbImage one = render_range(pts, rows, cols, layout, 1);
         RgbImage tall(one.width, one.height * row_scale);
         for (int r = 0; r < tall.height; ++r)
-            std::copy_n(one.at(r / row_scale, 0), static_cast<std::size_t>(one.width) * 3, tall.at(r, 0));
+            std::copy_n(one.at(r / row_scale, 0), static_cast<std::size_t>(one.width) * 3,
+                        tall.at(r, 0));
         return tall;
     }
     constexpr int kMaxSide = 65536;

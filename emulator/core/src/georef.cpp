@@ -16,7 +16,7 @@ namespace {
 // One PROJ context per call: contexts are not thread-safe, and georeferencing happens at
 // load time only, so there is nothing to gain from sharing one.
 class ProjContext {
-public:
+  public:
     ProjContext() : ctx_(proj_context_create()) {
         if (ctx_ == nullptr) throw ConfigError("georef: cannot create a PROJ context");
         // Capture PROJ's messages instead of letting it print to stderr; the last one names
@@ -46,7 +46,7 @@ public:
         return msg;
     }
 
-private:
+  private:
     PJ_CONTEXT* ctx_;
     std::string last_message_;
 };

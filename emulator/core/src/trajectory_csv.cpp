@@ -56,7 +56,7 @@ std::string group_list(const auto& groups) {
 }
 
 class CsvReader {
-public:
+  public:
     CsvReader(const std::string& path, const Georef& georef) : path_(path), georef_(georef) {}
 
     std::vector<StampedPose> read() {
@@ -88,7 +88,7 @@ public:
         return std::move(samples_);
     }
 
-private:
+  private:
     [[noreturn]] void fail(std::size_t line, std::string_view column,
                            const std::string& why) const {
         throw ConfigError("trajectory '" + path_ + "': line " + std::to_string(line) +

@@ -63,7 +63,7 @@ void validate_mesh(const scene::Scene& scene, std::size_t m) {
 // Owns one geometry reference until the end of scope (the scene keeps its own once attached),
 // so an error thrown between creation and attachment does not leak it.
 class GeometryRef {
-public:
+  public:
     explicit GeometryRef(RTCGeometry g) : g_(g) {}
     ~GeometryRef() {
         if (g_) rtcReleaseGeometry(g_);
@@ -72,7 +72,7 @@ public:
     GeometryRef& operator=(const GeometryRef&) = delete;
     RTCGeometry get() const { return g_; }
 
-private:
+  private:
     RTCGeometry g_;
 };
 

@@ -32,17 +32,19 @@ inline double small_tan(double x) {
 // Written out so each costs one square root and one division (Eigen's normalized() divides
 // per component, and these divisions dominated the per-pulse profile).
 inline void orthonormal_basis(const Eigen::Vector3d& d, Eigen::Vector3d& u, Eigen::Vector3d& v) {
-    if (std::abs(d.z()) < 0.9) {   // u = d × z / |d × z|
+    if (std::abs(d.z()) < 0.9) {  // u = d × z / |d × z|
         const double inv = 1.0 / std::sqrt(d.x() * d.x() + d.y() * d.y());
         u = {d.y() * inv, -d.x() * inv, 0.0};
-    } else {                       // u = d × x / |d × x|
+    } else {  // u = d × x / |d × x|
         const double inv = 1.0 / std::sqrt(d.y() * d.y() + d.z() * d.z());
         u = {0.0, d.z() * inv, -d.y() * inv};
     }
     v = d.cross(u);
 }
 
-inline Eigen::Vector3d unit(const Eigen::Vector3d& x) { return x * (1.0 / std::sqrt(x.squaredNorm())); }
+inline Eigen::Vector3d unit(const Eigen::Vector3d& x) {
+    return x * (1.0 / std::sqrt(x.squaredNorm()));
+}
 
 // Pulses of a chunk in firing order, their sensor poses, and the rays traced for them.
 struct ChunkGeometry {
@@ -56,10 +58,13 @@ struct ChunkGeometry {
 };
 
 class ChunkBuilder {
-public:
+  public:
     ChunkBuilder(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
                  const core::Mount& mount, GpsTime start)
-        : sensor_(sensor), trajectory_(trajectory), mount_(mount.as_pose()), start_(start),
+        : sensor_(sensor),
+          trajectory_(trajectory),
+          mount_(mount.as_pose()),
+          start_(start),
           subrays_(sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile,
                                      sensor.beam.divergence_rad)),
           group_(std::max<std::uint32_t>(1, sensor.scan->group_size())) {
@@ -143,13 +148,13 @@ public:
         }
     }
 
-private:
+  private:
     const sensor::SensorModel& sensor_;
     const core::Trajectory& trajectory_;
     core::Pose mount_;
     GpsTime start_;
     std::vector<sensor::SubRay> subrays_;
-    std::vector<std::pair<double, double>> tan_;   // tangents of the sub-ray offsets
+    std::vector<std::pair<double, double>> tan_;  // tangents of the sub-ray offsets
     std::vector<double> inv_norm_;
     std::uint32_t group_;
 };
@@ -158,7 +163,7 @@ private:
 struct Contribution {
     double range_m;
     double power_w;
-    std::uint32_t sub;   // sub-ray index, to recover the hit
+    std::uint32_t sub;  // sub-ray index, to recover the hit
 };
 
 struct ChunkResult {
@@ -167,11 +172,15 @@ struct ChunkResult {
 };
 
 class PulseShader {
-public:
+  public:
     PulseShader(const scene::Scene& scene, const sensor::SensorModel& sensor,
                 const physics::Environment& env, const RenderOptions& opt)
-        : scene_(scene), sensor_(sensor), env_(env), opt_(opt),
-          radiometry_(sensor.beam, sensor.receiver, env), sun_up_(env.sun.up()),
+        : scene_(scene),
+          sensor_(sensor),
+          env_(env),
+          opt_(opt),
+          radiometry_(sensor.beam, sensor.receiver, env),
+          sun_up_(env.sun.up()),
           to_sun_(env.sun.to_sun_enu()),
           // Sub-ray hits closer than the pulse's range resolution merge into one return.
           separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s) {}
@@ -201,8 +210,7 @@ public:
                     std::abs(double(dir.x() * h[s].nx + dir.y() * h[s].ny + dir.z() * h[s].nz));
                 const scene::Material& m = scene_.materials[h[s].material];
                 const double brdf = physics::monostatic_brdf(m, cos_inc);
-                const double p =
-                    radiometry_.laser_power_w(subrays[s].weight, range, brdf, cos_inc);
+                const double p = radiometry_.laser_power_w(subrays[s].weight, range, brdf, cos_inc);
                 contrib.push_back({range, p, static_cast<std::uint32_t>(s)});
             }
             out.stats.pulses++;
@@ -218,7 +226,7 @@ public:
         out.stats.rays += hits.size();
     }
 
-private:
+  private:
     void emit_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
                       std::vector<Contribution>& contrib, ChunkResult& out) const {
         const auto& rx = sensor_.receiver;
@@ -283,8 +291,8 @@ private:
                 const double cos_sun =
                     sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
                             : 0.0;
-                n_other = radiometry_.background_electrons(r.range_m, m.reflectance / std::numbers::pi,
-                                                           cos_sun);
+                n_other = radiometry_.background_electrons(
+                    r.range_m, m.reflectance / std::numbers::pi, cos_sun);
             }
             const double z = opt_.noise ? rng.normal() : 0.0;
             if (radiometry_.is_void(n_laser, n_other, z)) {
@@ -358,9 +366,9 @@ void accumulate(RenderStats& into, const RenderStats& s) {
 
 }  // namespace
 
-std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
-                               const core::Mount& mount, core::GpsTime start, std::uint64_t first,
-                               std::size_t n) {
+std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor,
+                               const core::Trajectory& trajectory, const core::Mount& mount,
+                               core::GpsTime start, std::uint64_t first, std::size_t n) {
     ChunkBuilder builder(sensor, trajectory, mount, start);
     ChunkGeometry g;
     builder.build(first, n, g);
@@ -378,8 +386,9 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     const std::size_t group = std::max<std::uint32_t>(1, sensor.scan->group_size());
     const std::size_t chunk = std::max<std::size_t>(group, opt.chunk_pulses / group * group);
     const std::uint64_t chunks = (total + chunk - 1) / chunk;
-    int threads = opt.threads > 0 ? opt.threads
-                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    int threads = opt.threads > 0
+                      ? opt.threads
+                      : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
     const ChunkBuilder builder(sensor, trajectory, mount, opt.start);
     const PulseShader shader(scene, sensor, env, opt);
@@ -389,7 +398,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     const std::uint64_t window = static_cast<std::uint64_t>(threads) * 2 + 2;
     std::mutex mu;
     std::condition_variable cv_done, cv_space;
-    std::deque<std::unique_ptr<ChunkResult>> slots;   // slots[k] = chunk written_ + k
+    std::deque<std::unique_ptr<ChunkResult>> slots;  // slots[k] = chunk written_ + k
     // Written chunks go back to a pool: fresh multi-megabyte vectors per chunk cost more in page
     // faults than the physics.
     std::vector<std::unique_ptr<ChunkResult>> pool_free;
@@ -404,7 +413,8 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
             std::uint64_t c;
             {
                 std::unique_lock lk(mu);
-                cv_space.wait(lk, [&] { return abort || next >= chunks || next < written + window; });
+                cv_space.wait(lk,
+                              [&] { return abort || next >= chunks || next < written + window; });
                 if (abort || next >= chunks) return;
                 if (stop && stop->load()) {
                     abort = true;
@@ -426,7 +436,8 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
             result->stats = {};
             try {
                 const std::uint64_t first = c * chunk;
-                const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, total - first));
+                const std::size_t n =
+                    static_cast<std::size_t>(std::min<std::uint64_t>(chunk, total - first));
                 builder.build(first, n, g);
                 hits.resize(g.rays.size());
                 renderer.intersect(g.rays, hits);
@@ -461,10 +472,10 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                        (abort && (slots.empty() || !slots.front()));
             });
             if (written >= chunks) break;
-            if (slots.empty() || !slots.front()) break;   // aborted and nothing ready in order
+            if (slots.empty() || !slots.front()) break;  // aborted and nothing ready in order
             ready = std::move(slots.front());
             slots.pop_front();
-            ++written;   // with the pop, so slots[k] stays chunk written + k for the workers
+            ++written;  // with the pop, so slots[k] stays chunk written + k for the workers
         }
         try {
             sink.write(ready->points);

@@ -34,7 +34,7 @@ std::string join_path(const std::string& parent, const std::string& key) {
 
 // Reads one file, remembering its label for error messages.
 class Reader {
-public:
+  public:
     explicit Reader(std::string path) : path_(std::move(path)) {}
 
     [[noreturn]] void fail(const std::string& key, const std::string& what) const {
@@ -115,7 +115,7 @@ public:
         return n.Scalar();
     }
 
-private:
+  private:
     std::string path_;
 };
 

@@ -21,8 +21,8 @@ std::array<std::uint8_t, 3> colormap(double t);
 // Each pixel keeps its highest point. The pixel grows beyond pixel_m when needed so neither
 // side exceeds max_side. Height: colormap over the 1st..99th percentile of the kept heights.
 // Intensity: grey = 32 + 223·clamp((I − I1)/(I99 − I1)) (percentiles of the kept intensities;
-// LAS intensity is already log-calibrated), so a hit is never black. Empty pixels (and no points at all: a 1x1 image)
-// are black. Non-finite points are skipped. Throws ConfigError on pixel_m <= 0 or
+// LAS intensity is already log-calibrated), so a hit is never black. Empty pixels (and no points at
+// all: a 1x1 image) are black. Non-finite points are skipped. Throws ConfigError on pixel_m <= 0 or
 // max_side < 1.
 RgbImage render_topdown(std::span<const core::PointRecord> pts, TopdownMode mode,
                         double pixel_m = 0.5, int max_side = 2048);

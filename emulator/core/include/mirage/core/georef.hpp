@@ -17,7 +17,7 @@ namespace mirage::core {
 // A scene without a georeference uses EPSG 0 and anchor (0, 0, 0).
 // Load-time only (PROJ calls); not for per-pulse use.
 class Georef {
-public:
+  public:
     Georef() = default;
     static Georef projected(int epsg, const Eigen::Vector3d& anchor);
     static Georef geodetic(double lat_deg, double lon_deg, double h_m, int epsg = 0);
@@ -40,7 +40,7 @@ public:
     // OGC WKT (WKT1 as LAS 1.4 readers expect) of the CRS, from PROJ; empty without a CRS.
     std::string wkt() const;
 
-private:
+  private:
     int epsg_ = 0;
     Eigen::Vector3d anchor_{Eigen::Vector3d::Zero()};
 };

@@ -16,7 +16,7 @@ enum class Interpolation { Linear, Cubic };
 // attitude: quaternion slerp along the shortest arc (never linear Euler angles, so yaw wraps
 // through ±180° correctly). Outside [begin, end] the end pose is held. Thread-safe for reads.
 class Trajectory {
-public:
+  public:
     static Trajectory fixed(const Pose& pose);
     // Throws ConfigError ("trajectory: ...") on no samples, non-increasing times, or a zero /
     // non-finite attitude. Attitudes are normalised and flipped into one hemisphere.
@@ -32,7 +32,7 @@ public:
     const std::vector<StampedPose>& samples() const { return samples_; }
     Interpolation interpolation() const { return interp_; }
 
-private:
+  private:
     Trajectory() = default;
     std::vector<StampedPose> samples_;
     Interpolation interp_ = Interpolation::Linear;

@@ -114,7 +114,7 @@ double lambertian_cross_section_m2(double reflectance, double cos_incidence, dou
 //          × kPerCm2ToPerM2).
 //   void   N_laser < γ·ΔN.
 class Radiometry {
-public:
+  public:
     // Throws ConfigError naming the field unless wavelength, pulse energy and width, divergence
     // (< π), aperture, f-number and pixel area are > 0.
     Radiometry(const sensor::BeamParams& beam, const sensor::ReceiverParams& rx,
@@ -151,7 +151,7 @@ public:
     double integration_time_s() const { return tau_int_; }
     double photons_per_joule() const { return photons_per_joule_; }  // λ/(hc)
 
-private:
+  private:
     sensor::BeamParams beam_;
     sensor::ReceiverParams rx_;
     Environment env_;

@@ -10,13 +10,13 @@
 namespace mirage::render {
 
 enum class BvhQuality { Low, Medium, High };
-enum class TraceApi { Single, Packet16 };   // rtcIntersect1 per ray, or rtcIntersect16
+enum class TraceApi { Single, Packet16 };  // rtcIntersect1 per ray, or rtcIntersect16
 
 struct EmbreeOptions {
     BvhQuality quality = BvhQuality::Medium;
     TraceApi api = TraceApi::Packet16;
-    bool robust = false;       // RTC_SCENE_FLAG_ROBUST (watertight)
-    bool compact = false;      // RTC_SCENE_FLAG_COMPACT
+    bool robust = false;   // RTC_SCENE_FLAG_ROBUST (watertight)
+    bool compact = false;  // RTC_SCENE_FLAG_COMPACT
     // Extra rtcNewDevice settings. Empty = automatic: "max_isa=avx2" for TraceApi::Single
     // (physics.md §4.3: single rays are 10–15 % faster with AVX2 kernels than AVX-512), Embree's
     // default otherwise. Build tasking is always Embree's default (all cores).
@@ -25,9 +25,9 @@ struct EmbreeOptions {
 
 struct EmbreeBuildStats {
     double build_seconds = 0;
-    std::uint64_t triangles = 0;        // unique triangles stored (instances counted once)
-    std::uint64_t placed_triangles = 0; // counting every instance placement
-    std::uint64_t bvh_bytes = 0;        // Embree memory (RTC_DEVICE memory monitor) after commit
+    std::uint64_t triangles = 0;         // unique triangles stored (instances counted once)
+    std::uint64_t placed_triangles = 0;  // counting every instance placement
+    std::uint64_t bvh_bytes = 0;         // Embree memory (RTC_DEVICE memory monitor) after commit
 };
 
 // Embree 3 scene: one geometry per mesh; instanced meshes become child scenes placed with
@@ -37,7 +37,7 @@ struct EmbreeBuildStats {
 // an unknown mesh) throw mirage::ConfigError. Triangle index buffers are shared with Embree,
 // so the Scene must outlive the renderer (vertices are copied into padded float buffers).
 class EmbreeRenderer : public Renderer {
-public:
+  public:
     explicit EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt = {});
     ~EmbreeRenderer() override;
     EmbreeRenderer(const EmbreeRenderer&) = delete;
@@ -46,7 +46,7 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override;
     const EmbreeBuildStats& build_stats() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
@@ -55,14 +55,14 @@ private:
 // Every placed triangle is transformed to the local frame in double at construction; ties in t
 // go to the lowest (instance, mesh, primitive). The Scene must outlive the renderer.
 class BruteForceRenderer : public Renderer {
-public:
+  public:
     explicit BruteForceRenderer(const scene::Scene& scene);
     ~BruteForceRenderer() override;
     BruteForceRenderer(const BruteForceRenderer&) = delete;
     BruteForceRenderer& operator=(const BruteForceRenderer&) = delete;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override;
 
-private:
+  private:
     struct Impl;
     const scene::Scene& scene_;
     std::unique_ptr<Impl> impl_;

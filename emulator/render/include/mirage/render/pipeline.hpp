@@ -19,28 +19,28 @@ namespace mirage::render {
 // Receives points in pulse order (deterministic whatever the thread count), one chunk at a time,
 // from a single thread at a time.
 class PointSink {
-public:
+  public:
     virtual ~PointSink() = default;
     virtual void write(std::span<const core::PointRecord> points) = 0;
 };
 
 struct RenderOptions {
     std::uint64_t seed = 1;
-    int threads = 0;                      // 0 = hardware concurrency
-    core::GpsTime start{};                // time of pulse 0
+    int threads = 0;        // 0 = hardware concurrency
+    core::GpsTime start{};  // time of pulse 0
     core::Nanos duration{std::chrono::seconds(1)};
-    bool noise = true;                    // range noise, jitter, detector noise
-    std::size_t chunk_pulses = 2048;      // work unit; results are independent of it
+    bool noise = true;                // range noise, jitter, detector noise
+    std::size_t chunk_pulses = 2048;  // work unit; results are independent of it
     physics::IntensityCalibration intensity;
 };
 
 struct RenderStats {
     std::uint64_t pulses = 0;
     std::uint64_t points = 0;
-    std::uint64_t misses = 0;        // no geometry within max range
-    std::uint64_t voids = 0;         // hit but N_laser < γ·ΔN
-    std::uint64_t too_close = 0;     // hit nearer than min range
-    std::uint64_t rays = 0;          // sub-rays traced
+    std::uint64_t misses = 0;     // no geometry within max range
+    std::uint64_t voids = 0;      // hit but N_laser < γ·ΔN
+    std::uint64_t too_close = 0;  // hit nearer than min range
+    std::uint64_t rays = 0;       // sub-rays traced
     double seconds = 0;
 };
 
@@ -62,8 +62,8 @@ namespace mirage::render {
 // The rays the pipeline traces for pulses [first, first + n), in its tracing order (one channel
 // over neighbouring firing groups, sub-rays adjacent). Used by the benchmark to time the bare
 // Embree ceiling on exactly the pipeline's rays.
-std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
-                               const core::Mount& mount, core::GpsTime start, std::uint64_t first,
-                               std::size_t n);
+std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor,
+                               const core::Trajectory& trajectory, const core::Mount& mount,
+                               core::GpsTime start, std::uint64_t first, std::size_t n);
 
 }  // namespace mirage::render

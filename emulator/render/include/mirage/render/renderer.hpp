@@ -9,7 +9,7 @@ namespace mirage::render {
 // A ray in the scene's local float32 frame (within ~1 km of the anchor).
 struct Ray {
     float ox = 0, oy = 0, oz = 0;
-    float dx = 0, dy = 0, dz = 1;   // unit direction
+    float dx = 0, dy = 0, dz = 1;  // unit direction
     float tnear = 0;
     float tfar = std::numeric_limits<float>::infinity();
 };
@@ -18,17 +18,17 @@ inline constexpr std::uint32_t kInvalidId = 0xFFFFFFFFu;
 
 struct Hit {
     float t = std::numeric_limits<float>::infinity();  // range along the ray; +inf on miss
-    float nx = 0, ny = 0, nz = 0;   // geometric normal in the local frame (unit, facing the ray)
+    float nx = 0, ny = 0, nz = 0;  // geometric normal in the local frame (unit, facing the ray)
     std::uint32_t material = kInvalidId;
-    std::uint32_t mesh = kInvalidId;      // Scene::meshes index
-    std::uint32_t primitive = kInvalidId; // triangle index within the mesh
-    std::uint32_t instance = kInvalidId;  // Scene::instances index, kInvalidId if not instanced
+    std::uint32_t mesh = kInvalidId;       // Scene::meshes index
+    std::uint32_t primitive = kInvalidId;  // triangle index within the mesh
+    std::uint32_t instance = kInvalidId;   // Scene::instances index, kInvalidId if not instanced
     bool hit() const { return t < std::numeric_limits<float>::infinity(); }
 };
 
 // Closest-hit intersector. Thread-safe: many threads may call intersect() at once.
 class Renderer {
-public:
+  public:
     virtual ~Renderer() = default;
     // hits.size() must equal rays.size(). Rays are traced in the given order; callers group
     // coherent rays (one beam over neighbouring azimuths) for packet tracing.

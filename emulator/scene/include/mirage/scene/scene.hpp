@@ -12,13 +12,13 @@ namespace mirage::scene {
 // Optical properties at the laser wavelength (see physics::monostatic_brdf).
 struct Material {
     std::string name;
-    double reflectance = 0.5;          // Lambertian diffuse reflectance ρ_d, [0, 1]
-    double specular = 0.0;             // weight of a Phong lobe, [0, 1 − ρ_d]
-    double specular_exponent = 20.0;   // Phong exponent of that lobe
-    bool retroreflective = false;      // corner-cube sheeting: strong return near the source
-    double retro_gain = 100.0;         // retroreflective BRDF at the source, sr⁻¹ (Lambertian 0.5 → 0.16)
-    double transmission = 0.0;         // fraction passing through (multi-return), [0, 1]
-    std::uint8_t classification = 1;   // LAS class code
+    double reflectance = 0.5;         // Lambertian diffuse reflectance ρ_d, [0, 1]
+    double specular = 0.0;            // weight of a Phong lobe, [0, 1 − ρ_d]
+    double specular_exponent = 20.0;  // Phong exponent of that lobe
+    bool retroreflective = false;     // corner-cube sheeting: strong return near the source
+    double retro_gain = 100.0;  // retroreflective BRDF at the source, sr⁻¹ (Lambertian 0.5 → 0.16)
+    double transmission = 0.0;        // fraction passing through (multi-return), [0, 1]
+    std::uint8_t classification = 1;  // LAS class code
     std::uint16_t red = 32768, green = 32768, blue = 32768;
 };
 
@@ -26,8 +26,8 @@ struct Material {
 struct Mesh {
     std::string name;
     std::vector<Eigen::Vector3f> vertices;
-    std::vector<Eigen::Vector3i> triangles;   // indices into vertices
-    std::vector<std::uint32_t> materials;     // per triangle: index into Scene::materials
+    std::vector<Eigen::Vector3i> triangles;  // indices into vertices
+    std::vector<std::uint32_t> materials;    // per triangle: index into Scene::materials
 };
 
 // One placement of a mesh: world-local = transform * mesh-local (Embree instancing).
@@ -42,8 +42,8 @@ struct Instance {
 void check_vertex_indices(const Mesh& mesh, const std::string& who);
 
 struct LoadStats {
-    std::uint64_t degenerate_triangles_dropped = 0;   // zero area or repeated vertex
-    std::uint64_t triangles = 0;                      // after dropping, counting instances once
+    std::uint64_t degenerate_triangles_dropped = 0;  // zero area or repeated vertex
+    std::uint64_t triangles = 0;                     // after dropping, counting instances once
 };
 
 // The whole static world. Meshes listed in `meshes` and referenced by no Instance are placed
@@ -56,8 +56,8 @@ struct Scene {
     std::vector<Instance> instances;
     LoadStats stats;
 
-    std::uint32_t add_material(Material m);          // returns its index
-    std::uint32_t add_mesh(Mesh m);                  // returns its index
+    std::uint32_t add_material(Material m);  // returns its index
+    std::uint32_t add_mesh(Mesh m);          // returns its index
     // Number of triangles a ray can meet, counting every instance placement.
     std::uint64_t placed_triangle_count() const;
     // Axis-aligned bounds (local frame) of all placed geometry.

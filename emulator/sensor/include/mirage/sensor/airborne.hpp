@@ -36,7 +36,7 @@ struct AirborneConfig {
 
 // Common timing, tilt and bookkeeping; the concrete pattern steers one pulse.
 class AirbornePattern : public ScanPattern {
-public:
+  public:
     explicit AirbornePattern(AirborneConfig config);
 
     std::uint64_t pulse_count(core::Nanos duration) const override;
@@ -48,7 +48,7 @@ public:
 
     const AirborneConfig& config() const { return config_; }
 
-protected:
+  protected:
     // Untilted direction, scan angle, scan_direction and edge_of_flight_line of pulse k.
     virtual void steer(std::uint64_t k, PulseSpec& p) const = 0;
     // Continuous cycles of the mechanical frequency at pulse k: k·scan_rate/prf.
@@ -56,7 +56,7 @@ protected:
 
     AirborneConfig config_;
 
-private:
+  private:
     std::int64_t time_ns(std::uint64_t k) const;
     double period_ns_ = 0;
     double cos_tilt_ = 1, sin_tilt_ = 0;

@@ -10,14 +10,14 @@ namespace mirage::sensor {
 //   sine:               θ = F/2·sin(2πx), scan_direction 1 while cos(2πx) > 0, line = ⌊2x + ½⌋.
 // edge_of_flight_line = 1 on the last pulse of each line. Kind Sawtooth or Sine.
 class OscillatingMirrorPattern final : public AirbornePattern {
-public:
+  public:
     explicit OscillatingMirrorPattern(AirborneConfig config);
     std::string kind() const override;
 
-protected:
+  protected:
     void steer(std::uint64_t k, PulseSpec& p) const override;
 
-private:
+  private:
     double line_of(std::uint64_t k) const;
 };
 

@@ -11,11 +11,11 @@ namespace mirage::sensor {
 // extreme left/right, line = ⌊2x + ½⌋ with x = f·t. LAS scan angle = across-track projection
 // atan2(sin c·sin φ, cos c) (+ right); the off-nadir angle is always c.
 class PalmerPattern final : public AirbornePattern {
-public:
+  public:
     explicit PalmerPattern(AirborneConfig config);
     std::string kind() const override { return "palmer"; }
 
-protected:
+  protected:
     void steer(std::uint64_t k, PulseSpec& p) const override;
 };
 

@@ -8,14 +8,14 @@ namespace mirage::sensor {
 // starts again at −F/2. lines/s = facets × revolutions/s; x = lines/s · t, line = ⌊x⌋,
 // θ = −F/2 + F·frac(x). The whole facet period is used (no dead time between lines).
 class PolygonPattern final : public AirbornePattern {
-public:
+  public:
     explicit PolygonPattern(AirborneConfig config);
     std::string kind() const override { return "polygon"; }
 
-protected:
+  protected:
     void steer(std::uint64_t k, PulseSpec& p) const override;
 
-private:
+  private:
     double lines(std::uint64_t k) const;  // continuous scan lines at pulse k
 };
 

@@ -16,35 +16,35 @@ enum class BeamProfile { Gaussian, TopHat };
 struct BeamParams {
     double wavelength_m = 905e-9;
     double laser_bandwidth_m = 5e-9;
-    double pulse_energy_j = 1e-7;      // per pulse
-    double pulse_width_s = 5e-9;       // FWHM
-    double divergence_rad = 3e-3;      // full angle (1/e² diameter for Gaussian)
+    double pulse_energy_j = 1e-7;  // per pulse
+    double pulse_width_s = 5e-9;   // FWHM
+    double divergence_rad = 3e-3;  // full angle (1/e² diameter for Gaussian)
     BeamProfile profile = BeamProfile::Gaussian;
-    int sub_rays = 1;                  // footprint samples per pulse: 1, 7, 19, 37, ... (hex rings)
+    int sub_rays = 1;  // footprint samples per pulse: 1, 7, 19, 37, ... (hex rings)
 };
 
 // Receiver and detector (seed 001 eqs. 4–13).
 struct ReceiverParams {
     double aperture_diameter_m = 0.025;
     double f_number = 1.0;
-    double detector_area_m2 = 1e-7;      // A_pix
+    double detector_area_m2 = 1e-7;  // A_pix
     double eta_transmitter = 0.9;
     double eta_receiver = 0.8;
-    double quantum_efficiency = 0.7;     // η (avg) at the laser wavelength
-    double detector_bandwidth_m = 20e-9; // Δλ_det (optical filter)
-    double integration_time_s = 0;       // τ_int for background/noise; 0 → pulse width
-    double noise_irradiance_sigma = 0;   // σ₁ of δE, W/(m²·µm)
-    double threshold_gamma = 3.0;        // void if N_laser < γ·ΔN
+    double quantum_efficiency = 0.7;      // η (avg) at the laser wavelength
+    double detector_bandwidth_m = 20e-9;  // Δλ_det (optical filter)
+    double integration_time_s = 0;        // τ_int for background/noise; 0 → pulse width
+    double noise_irradiance_sigma = 0;    // σ₁ of δE, W/(m²·µm)
+    double threshold_gamma = 3.0;         // void if N_laser < γ·ΔN
     double min_range_m = 0.5;
     double max_range_m = 120.0;
-    double range_resolution_m = 0.0;     // output quantisation (0 = none)
-    int max_returns = 1;                 // returns per pulse kept (strongest first when 1)
+    double range_resolution_m = 0.0;  // output quantisation (0 = none)
+    int max_returns = 1;              // returns per pulse kept (strongest first when 1)
 };
 
 // Measurement noise (seed 001 eqs. 14–15).
 struct NoiseParams {
-    double range_sigma_m = 0;      // δR
-    double jitter_sigma_rad = 0;   // δxy, per axis
+    double range_sigma_m = 0;     // δR
+    double jitter_sigma_rad = 0;  // δxy, per axis
 };
 
 // One pulse as fired: time since scan start, direction in the sensor frame (FLU, unit),
@@ -63,7 +63,7 @@ struct PulseSpec {
 // generate any range of pulses. Implementations: spinning multi-beam, oscillating mirror
 // (sawtooth/sinusoidal), rotating polygon, Palmer.
 class ScanPattern {
-public:
+  public:
     virtual ~ScanPattern() = default;
     virtual std::string kind() const = 0;
     // Pulses fired in [0, duration).
@@ -84,15 +84,15 @@ struct SensorModel {
     ReceiverParams receiver;
     NoiseParams noise;
     std::uint16_t point_source_id = 1;
-    bool airborne = false;      // LAS scan angle = off-nadir, previews top-down
+    bool airborne = false;  // LAS scan angle = off-nadir, previews top-down
 };
 
 // Built-in presets: vlp16, vlp16-hires, vlp32c, hdl32e, hdl64e-s3, os1-64-<W>x<F>,
 // os1-128-<W>x<F> (W ∈ {512, 1024, 2048}, F ∈ {10, 20}), and airborne presets
 // als-mirror (sawtooth, default), als-mirror-sine, als-polygon, als-palmer.
 std::vector<std::string> preset_names();
-SensorModel preset(const std::string& name);          // throws ConfigError if unknown
-SensorModel load_sensor_yaml(const std::string& path); // throws ConfigError with key path
+SensorModel preset(const std::string& name);            // throws ConfigError if unknown
+SensorModel load_sensor_yaml(const std::string& path);  // throws ConfigError with key path
 // A preset name or a YAML path.
 SensorModel resolve_sensor(const std::string& spec);
 

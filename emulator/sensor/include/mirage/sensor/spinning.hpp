@@ -30,7 +30,7 @@ struct SpinningConfig {
 // [0, 360)); dir = (cos el·cos az, −cos el·sin az, sin el) in FLU.
 // Offsets are shifted so the earliest laser fires at t = 0; t_ns is rounded to whole ns.
 class SpinningPattern final : public ScanPattern {
-public:
+  public:
     // Throws ConfigError ("sensor: spinning: …") on an empty laser list, a non-positive period or
     // rotation rate, or a firing offset outside [0, period).
     explicit SpinningPattern(SpinningConfig config);
@@ -47,7 +47,7 @@ public:
     double azimuth_step_deg() const { return step_deg_; }
     double rpm() const { return 60.0 * config_.rotation_hz; }
 
-private:
+  private:
     struct Slot {
         std::uint16_t channel;
         std::int64_t offset_ns;   // rounded firing offset
