@@ -31,8 +31,7 @@ double seconds_since(Clock::time_point t0) {
 // region; only renderer.intersect is timed. Returns rays/s over `threads` threads.
 double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
                           std::uint64_t& rays_out) {
-    const std::size_t group = std::max<std::uint32_t>(1, job.sensor.scan->group_size());
-    const std::size_t chunk = std::max<std::size_t>(group, 8192 / group * group);
+    const std::size_t chunk = render::chunk_pulses(job.sensor, job.options.chunk_pulses);
     const std::uint64_t chunks = (pulses + chunk - 1) / chunk;
     std::atomic<std::uint64_t> next{0}, rays{0};
     std::vector<double> busy(static_cast<std::size_t>(threads), 0.0);
@@ -63,18 +62,13 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
     return wall > 0 ? double(rays_out) / wall : 0.0;
 }
 
-struct PipelineRun {
-    render::RenderStats stats;
-};
-
-PipelineRun run_pipeline_to_null(Job& job, const std::string& null_path) {
+render::RenderStats run_pipeline_to_null(Job& job, const std::string& null_path) {
     las::LasWriter writer(null_path, job.scene->georef);
     LasSink sink(writer);
-    PipelineRun r;
-    r.stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
-                             job.env, job.options, sink);
+    const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
+                                      job.mount, job.env, job.options, sink);
     writer.close();
-    return r;
+    return stats;
 }
 
 // Per-pulse first-return range and intensity, for error against a reference.
@@ -168,9 +162,9 @@ void register_bench(CLI::App& app) {
                     ceiling_rays / double(std::max<std::uint64_t>(1, rays)) * double(pulses);
                 row.ceiling_rays_per_s = ceiling_rays;
                 const auto run = run_pipeline_to_null(job, "/dev/null");
-                row.pipeline_pulses_per_s = double(run.stats.pulses) / run.stats.seconds;
-                row.pipeline_points_per_s = double(run.stats.points) / run.stats.seconds;
-                row.points = run.stats.points;
+                row.pipeline_pulses_per_s = double(run.pulses) / run.seconds;
+                row.pipeline_points_per_s = double(run.points) / run.seconds;
+                row.points = run.points;
                 report.throughput.push_back(row);
                 fmt::print(
                     "{:>11} sub-rays {:>2}: pipeline {:6.2f} M pulses/s ({:6.2f} M points/s) | "

@@ -47,30 +47,11 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 }  // namespace
 
 core::Nanos parse_seconds(const std::string& text, const std::string& what) {
-    // Integer arithmetic on the decimal digits: no float seconds anywhere.
-    std::int64_t whole = 0, frac = 0;
-    int frac_digits = 0;
-    bool dot = false, digits = false;
-    for (char ch : text) {
-        if (ch == '.' && !dot) {
-            dot = true;
-        } else if (ch >= '0' && ch <= '9') {
-            digits = true;
-            if (!dot) {
-                if (whole > 9'000'000'000LL)
-                    throw ConfigError(fmt::format("{}: '{}' is too large", what, text));
-                whole = whole * 10 + (ch - '0');
-            } else if (frac_digits < 9) {
-                frac = frac * 10 + (ch - '0');
-                ++frac_digits;
-            }
-        } else {
-            throw ConfigError(fmt::format("{}: '{}' is not a number of seconds", what, text));
-        }
-    }
-    if (!digits) throw ConfigError(fmt::format("{}: '{}' is not a number of seconds", what, text));
-    for (int i = frac_digits; i < 9; ++i) frac *= 10;
-    return core::Nanos(whole * core::kNsPerSecond + frac);
+    // Exact decimal digits to ns (no float seconds); negative durations make no sense here.
+    const auto ns = core::parse_decimal_seconds(text);
+    if (!ns || ns->count() < 0)
+        throw ConfigError(fmt::format("{}: '{}' is not a number of seconds", what, text));
+    return *ns;
 }
 
 render::EmbreeOptions embree_options(const std::string& quality) {

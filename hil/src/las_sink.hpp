@@ -22,11 +22,4 @@ class LasSink : public render::PointSink {
     std::vector<core::PointRecord>* keep_;
 };
 
-// Counts and discards (benchmarks: encoding cost without I/O is measured separately).
-class NullSink : public render::PointSink {
-  public:
-    void write(std::span<const core::PointRecord> points) override { count += points.size(); }
-    std::uint64_t count = 0;
-};
-
 }  // namespace mirage::hil

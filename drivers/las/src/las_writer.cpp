@@ -25,6 +25,13 @@ namespace {
 
 using namespace layout;
 
+// Red, green, blue u16 at `at` (formats 3 and 7 differ only in where they start).
+void put_rgb(std::uint8_t* at, const core::PointRecord& p) {
+    put_u16(at, p.red);
+    put_u16(at + 2, p.green);
+    put_u16(at + 4, p.blue);
+}
+
 constexpr double kOffsetGrid_m = 1000.0;
 constexpr double kScanAngleUnit_deg = 0.006;  // formats 6–10 (Table 13)
 
@@ -219,11 +226,7 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexce
         r[17] = 0;
         put_u16(r + 18, p.point_source_id);
         put_f64(r + 20, gps);
-        if (opt.point_format == 3) {
-            put_u16(r + 28, p.red);
-            put_u16(r + 30, p.green);
-            put_u16(r + 32, p.blue);
-        }
+        if (opt.point_format == 3) put_rgb(r + 28, p);
     } else {
         // Table 13: return number 4 bits, number of returns 4 bits; then classification
         // flags (4), scanner channel (2, scanner head: always 0 here), scan direction, edge.
@@ -238,11 +241,7 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexce
         put_i16(r + 18, static_cast<std::int16_t>(std::lround(units)));
         put_u16(r + 20, p.point_source_id);
         put_f64(r + 22, gps);
-        if (opt.point_format == 7) {
-            put_u16(r + 30, p.red);
-            put_u16(r + 32, p.green);
-            put_u16(r + 34, p.blue);
-        }
+        if (opt.point_format == 7) put_rgb(r + 30, p);
     }
     return true;
 }

@@ -366,6 +366,11 @@ void accumulate(RenderStats& into, const RenderStats& s) {
 
 }  // namespace
 
+std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requested) {
+    const std::size_t group = std::max<std::uint32_t>(1, sensor.scan->group_size());
+    return std::max<std::size_t>(group, requested / group * group);
+}
+
 std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor,
                                const core::Trajectory& trajectory, const core::Mount& mount,
                                core::GpsTime start, std::uint64_t first, std::size_t n) {
@@ -382,9 +387,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                    const std::atomic<bool>* stop) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
-    // Chunks are whole firing groups so the ray regrouping never splits a column.
-    const std::size_t group = std::max<std::uint32_t>(1, sensor.scan->group_size());
-    const std::size_t chunk = std::max<std::size_t>(group, opt.chunk_pulses / group * group);
+    const std::size_t chunk = chunk_pulses(sensor, opt.chunk_pulses);
     const std::uint64_t chunks = (total + chunk - 1) / chunk;
     int threads = opt.threads > 0
                       ? opt.threads

@@ -59,6 +59,10 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
 
 namespace mirage::render {
 
+// Pulses per work unit: `requested` rounded down to whole firing groups (at least one), so the
+// ray regrouping never splits a column. The benchmark's ceiling uses the same chunks.
+std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requested);
+
 // The rays the pipeline traces for pulses [first, first + n), in its tracing order (one channel
 // over neighbouring firing groups, sub-rays adjacent). Used by the benchmark to time the bare
 // Embree ceiling on exactly the pipeline's rays.
