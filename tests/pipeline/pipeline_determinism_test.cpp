@@ -66,3 +66,46 @@ TEST(PipelineDeterminism, same_seed_gives_byte_identical_las_on_one_and_two_thre
 
 }  // namespace
 }  // namespace mirage::test
+
+namespace mirage::test {
+namespace {
+
+// Packet encoders need to know which pulses are behind them even when a chunk has no returns
+// (sky): pulses_done() reports a strictly increasing pulse count that ends at the total.
+TEST(PipelineProgress, pulses_done_increases_to_the_total_and_covers_every_point) {
+    scene::Scene s = plane_scene(400.0, Eigen::Affine3d::Identity(), 0.3);
+    render::EmbreeRenderer r(s);
+    auto sensor = sensor::preset("vlp16");
+    render::RenderOptions opt;
+    opt.threads = 2;
+    opt.chunk_pulses = 512;
+    opt.duration = std::chrono::milliseconds(50);
+    std::vector<core::StampedPose> samples{
+        {core::GpsTime{}, {{0, 0, 1.8}, core::quaternion_from_rpy(0, 0, 0)}}};
+    struct Sink : render::PointSink {
+        std::vector<std::uint64_t> done;
+        std::uint64_t max_pulse_seen = 0, violations = 0, points = 0;
+        void write(std::span<const core::PointRecord> p) override {
+            for (const auto& q : p) {
+                const std::uint64_t before = done.empty() ? 0 : done.back();
+                if (q.pulse < before) ++violations;  // a point of a pulse already reported done
+                max_pulse_seen = std::max(max_pulse_seen, q.pulse);
+                ++points;
+            }
+        }
+        void pulses_done(std::uint64_t next) override { done.push_back(next); }
+    } sink;
+    const auto stats = render::render(s, r, sensor, core::Trajectory(samples), {},
+                                      physics::Environment{}, opt, sink);
+    const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
+    ASSERT_FALSE(sink.done.empty());
+    EXPECT_EQ(sink.done.back(), total);
+    EXPECT_EQ(stats.pulses, total);
+    for (std::size_t i = 1; i < sink.done.size(); ++i) EXPECT_GT(sink.done[i], sink.done[i - 1]);
+    EXPECT_EQ(sink.violations, 0u);
+    EXPECT_GT(sink.points, 0u);
+    EXPECT_LT(sink.max_pulse_seen, total);
+}
+
+}  // namespace
+}  // namespace mirage::test

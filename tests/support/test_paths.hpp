@@ -17,6 +17,14 @@ inline std::filesystem::path capture_or_skip(const std::string& name) {
     return dir / name;
 }
 
+// In a test body: `MIRAGE_CAPTURE_OR_SKIP(path, "vlp16_example.pcap");` declares `path` or skips the
+// test with a message naming the missing file (GTEST_SKIP must run in the test body itself).
+#define MIRAGE_CAPTURE_OR_SKIP(var, name)                                                       \
+    const std::filesystem::path var = ::mirage::test::capture_or_skip(name);                    \
+    if (!std::filesystem::exists(var))                                                          \
+    GTEST_SKIP() << "capture " << var << " not found (set MIRAGE_CAPTURES_DIR or the CMake "    \
+                 << "option MIRAGE_CAPTURES_DIR to the folder of ../shared/captures)"
+
 inline std::filesystem::path source_dir() { return MIRAGE_SOURCE_DIR; }
 
 // A fresh temporary folder per test, removed at the end.

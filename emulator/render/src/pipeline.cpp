@@ -482,6 +482,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
         }
         try {
             sink.write(ready->points);
+            sink.pulses_done(std::min<std::uint64_t>(written * chunk, total));
         } catch (...) {
             std::lock_guard lk(mu);
             if (!error) error = std::current_exception();

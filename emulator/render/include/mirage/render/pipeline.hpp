@@ -22,6 +22,9 @@ class PointSink {
   public:
     virtual ~PointSink() = default;
     virtual void write(std::span<const core::PointRecord> points) = 0;
+    // Called after each chunk's write: every pulse before `next_pulse` has been delivered. Packet
+    // encoders need it because pulses without returns produce no points but still fill packets.
+    virtual void pulses_done(std::uint64_t next_pulse) { (void)next_pulse; }
 };
 
 struct RenderOptions {
