@@ -95,6 +95,9 @@ void register_bench(CLI::App& app) {
         int threads = 0;
         std::string seconds = "3";  // simulated seconds per throughput configuration
         bool quick = false;
+        std::vector<std::string> sensors;  // empty: all
+        std::vector<int> sub_rays;         // empty: 1, 7, 19
+        bool throughput_only = false;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--out-dir", o->out_dir,
@@ -105,6 +108,11 @@ void register_bench(CLI::App& app) {
     cmd->add_option("--seconds", o->seconds, "Simulated seconds per throughput run")
         ->capture_default_str();
     cmd->add_flag("--quick", o->quick, "Short run for CI (small durations, fewer settings)");
+    cmd->add_option("--sensor", o->sensors,
+                    "Only these throughput sensors (vlp16, hdl64e-s3, als-mirror); repeatable");
+    cmd->add_option("--sub-rays", o->sub_rays, "Only these sub-ray counts; repeatable");
+    cmd->add_flag("--throughput-only", o->throughput_only,
+                  "Skip the LAS-rate and run-time-against-error parts");
     cmd->callback([o] {
         const int threads =
             o->threads > 0 ? o->threads : static_cast<int>(std::thread::hardware_concurrency());
@@ -139,10 +147,14 @@ void register_bench(CLI::App& app) {
         };
         const Config configs[] = {
             {"vlp16", "demo-car"}, {"hdl64e-s3", "demo-car"}, {"als-mirror", "demo-flight"}};
-        const int sub_rays[] = {1, 7, 19};
+        const std::vector<int> sub_rays =
+            o->sub_rays.empty() ? std::vector<int>{1, 7, 19} : o->sub_rays;
         for (const auto& c : configs) {
+            if (!o->sensors.empty() &&
+                std::find(o->sensors.begin(), o->sensors.end(), c.sensor) == o->sensors.end())
+                continue;
             for (int s : sub_rays) {
-                if (o->quick && s == 19) continue;
+                if (o->quick && s == 19 && o->sub_rays.empty()) continue;
                 JobInputs in = base;
                 in.sensor = c.sensor;
                 in.trajectory = c.trajectory;
@@ -177,6 +189,7 @@ void register_bench(CLI::App& app) {
             }
         }
 
+        if (o->throughput_only) return;  // partial run: no report files
         // LAS write rate to a real file.
         {
             const std::uint64_t n = o->quick ? 500'000 : 5'000'000;

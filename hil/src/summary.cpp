@@ -19,6 +19,16 @@ void print_summary(std::FILE* out, const char* what, const Job& job, const rende
         "{:.1f}x real time ({} rays)\n",
         secs, job.scene_seconds, bs.build_seconds, double(s.pulses) / secs / 1e6,
         double(s.points) / secs / 1e6, sim / secs, s.rays);
+    const double cpu = s.cpu_rays_s + s.cpu_trace_s + s.cpu_shade_s + s.cpu_output_s;
+    if (cpu > 0) {
+        fmt::print(
+            out,
+            "  CPU {:.3f} s: rays {:.0f} %, trace {:.0f} %, physics {:.0f} %, output {:.0f} %"
+            " ({:.0f} ns per pulse outside the ray tracer)\n",
+            cpu, 100 * s.cpu_rays_s / cpu, 100 * s.cpu_trace_s / cpu, 100 * s.cpu_shade_s / cpu,
+            100 * s.cpu_output_s / cpu,
+            1e9 * (cpu - s.cpu_trace_s) / double(std::max<std::uint64_t>(1, s.pulses)));
+    }
 }
 
 }  // namespace mirage::hil

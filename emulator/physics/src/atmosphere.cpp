@@ -32,8 +32,6 @@ double Atmosphere::extinction_from_visibility(double visibility_m, double wavele
     return alpha_per_km * 1e-3;
 }
 
-double Atmosphere::one_way(double range_m) const { return std::exp(-extinction_per_m * range_m); }
-
 Eigen::Vector3d Sun::to_sun_enu() const {
     // Azimuth clockwise from north: east component sin(a), north component cos(a).
     const double ce = std::cos(elevation_rad);

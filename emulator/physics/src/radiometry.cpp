@@ -75,42 +75,6 @@ Radiometry::Radiometry(const sensor::BeamParams& beam, const sensor::ReceiverPar
                      rx.quantum_efficiency * photons_per_joule_;
 }
 
-double Radiometry::laser_power_w(double weight, double range_m, double brdf,
-                                 double cos_incidence) const {
-    if (!(range_m > 0.0) || !(cos_incidence > 0.0)) return 0.0;
-    const double tau = env_.atmosphere.one_way(range_m);
-    // eq. 2: irradiance over the spot, normal to the beam.
-    const double e = weight * peak_power_w_ * rx_.eta_transmitter * tau /
-                     (std::numbers::pi * range_m * range_m * tan2_half_beta_);
-    // eq. 3: radiance leaving the surface towards the receiver.
-    const double l = brdf * e * std::min(cos_incidence, 1.0);
-    // eq. 4 (generalised): back through the atmosphere into A_r over min(Ω_pix, Ω_spot).
-    return l * tau * rx_.eta_receiver * aperture_m2_ * collect_sr_;
-}
-
-double Radiometry::laser_electrons(double power_w) const {
-    return power_w * beam_.pulse_width_s * photons_per_joule_ * rx_.quantum_efficiency;
-}
-
-double Radiometry::background_electrons(double range_m, double brdf_diffuse, double cos_sun) const {
-    double radiance = env_.path_radiance_w_m2_sr_um;  // eq. 9
-    if (env_.sun.up() && cos_sun > 0.0) {
-        // eqs. 6–8: sunlit surface radiance, attenuated on the way back to the receiver.
-        radiance += brdf_diffuse * env_.sun.irradiance_w_m2_um * std::min(cos_sun, 1.0) *
-                    env_.atmosphere.one_way(range_m);
-    }
-    return radiance * background_e_per_w_;  // eq. 10
-}
-
-double Radiometry::delta_n(double n_laser, double n_other, double z) const {
-    const double floor = noise_floor_e_ * z;
-    return std::sqrt(floor * floor + std::max(n_laser, 0.0) + std::max(n_other, 0.0));
-}
-
-bool Radiometry::is_void(double n_laser, double n_other, double z) const {
-    return n_laser < rx_.threshold_gamma * delta_n(n_laser, n_other, z);
-}
-
 double Radiometry::void_probability(double n_laser, double n_other) const {
     const double gamma = rx_.threshold_gamma;
     if (n_laser < 0.0) return 1.0;

@@ -51,9 +51,17 @@ SpinningPattern::SpinningPattern(SpinningConfig config) : config_(std::move(conf
     for (std::size_t l : order) {
         const LaserSpec& s = config_.lasers[l];
         const double el = s.elevation_deg * std::numbers::pi / 180.0;
-        slots_.push_back(Slot{static_cast<std::uint16_t>(l), std::llround(s.firing_offset_ns),
-                              360.0 * s.firing_offset_ns / rev_ns + s.azimuth_offset_deg,
-                              std::cos(el), std::sin(el), static_cast<float>(s.elevation_deg)});
+        Slot slot{static_cast<std::uint16_t>(l),
+                  std::llround(s.firing_offset_ns),
+                  360.0 * s.firing_offset_ns / rev_ns + s.azimuth_offset_deg,
+                  std::cos(el),
+                  std::sin(el),
+                  static_cast<float>(s.elevation_deg)};
+        slot.base_wrapped_deg = detail::wrap_deg(slot.azimuth_base_deg);
+        const double b = slot.base_wrapped_deg * std::numbers::pi / 180.0;
+        slot.ecos_base = slot.cos_el * std::cos(b);
+        slot.esin_base = slot.cos_el * std::sin(b);
+        slots_.push_back(slot);
     }
 }
 
@@ -77,17 +85,30 @@ std::uint64_t SpinningPattern::pulse_count(core::Nanos duration) const {
 
 void SpinningPattern::pulses(std::uint64_t first, std::size_t n, PulseSpec* out) const {
     const std::uint64_t lasers = slots_.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint64_t k = first + i;
-        const std::uint64_t seq = k / lasers;
-        const Slot& slot = slots_[k % lasers];
+    std::uint64_t seq = first / lasers;
+    std::size_t si = static_cast<std::size_t>(first % lasers);
+    // Rotor state of the current sequence: one sincos per sequence instead of one per pulse.
+    std::int64_t t_seq = 0;
+    double rotor_deg = 0, cr = 1, sr = 0;
+    auto start_sequence = [&] {
         const double s = static_cast<double>(seq);
+        t_seq = std::llround(s * config_.sequence_period_ns);
+        rotor_deg = detail::wrap_deg(s * step_deg_);
+        const double a = rotor_deg * std::numbers::pi / 180.0;
+        cr = std::cos(a);
+        sr = std::sin(a);
+    };
+    start_sequence();
+    for (std::size_t i = 0; i < n; ++i) {
+        const Slot& slot = slots_[si];
         PulseSpec& p = out[i];
-        p.t_ns = std::llround(s * config_.sequence_period_ns) + slot.offset_ns;
-        const double az = detail::wrap_deg(s * step_deg_ + slot.azimuth_base_deg);
-        const double a = az * std::numbers::pi / 180.0;
-        p.dir = Eigen::Vector3f(static_cast<float>(slot.cos_el * std::cos(a)),
-                                static_cast<float>(-slot.cos_el * std::sin(a)),
+        p.t_ns = t_seq + slot.offset_ns;
+        double az = rotor_deg + slot.base_wrapped_deg;
+        if (az >= 360.0) az -= 360.0;
+        // cos(r + b), sin(r + b) by angle addition, already scaled by cos(elevation).
+        const double x = cr * slot.ecos_base - sr * slot.esin_base;
+        const double y = sr * slot.ecos_base + cr * slot.esin_base;
+        p.dir = Eigen::Vector3f(static_cast<float>(x), static_cast<float>(-y),
                                 static_cast<float>(slot.sin_el));
         p.channel = slot.channel;
         p.scan_angle_deg = slot.elevation_deg;
@@ -95,6 +116,11 @@ void SpinningPattern::pulses(std::uint64_t first, std::size_t n, PulseSpec* out)
         if (p.azimuth_deg >= 360.0f) p.azimuth_deg = 0.0f;  // float rounding of 359.99999…
         p.scan_direction = 0;
         p.edge_of_flight_line = 0;
+        if (++si == lasers) {
+            si = 0;
+            ++seq;
+            if (i + 1 < n) start_sequence();
+        }
     }
 }
 

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include "mirage/scene/scene.hpp"
 #include "mirage/sensor/sensor.hpp"
@@ -27,7 +30,9 @@ struct Atmosphere {
     // 0.0721 km⁻¹ = 7.21e-5 m⁻¹ (two-way transmission over 1 km 0.866).
     // Throws ConfigError unless both inputs are finite and > 0.
     static double extinction_from_visibility(double visibility_m, double wavelength_m);
-    double one_way(double range_m) const;  // τ(R) = exp(−αR); monostatic two-way is τ(R)²
+    double one_way(double range_m) const {
+        return std::exp(-extinction_per_m * range_m);
+    }  // τ(R) = exp(−αR); monostatic two-way is τ(R)²
 };
 
 // Sun as the "other" source of seed 001 eqs. 6–10.
@@ -54,7 +59,22 @@ struct Environment {
 // Monostatic: the mirror direction of the source lies 2θ from the view direction, so the Phong
 // lobe is evaluated at 2θ and peaks at normal incidence. cos θ is expected in [0, 1] (pass
 // |n·d| for two-sided meshes); values ≤ 0 (surface facing away) return 0.
-double monostatic_brdf(const scene::Material& m, double cos_incidence);
+inline double monostatic_brdf(const scene::Material& m, double cos_incidence) {
+    if (!(cos_incidence > 0.0)) return 0.0;  // facing away (or NaN): no return
+    const double c = std::min(cos_incidence, 1.0);
+    double f = m.reflectance / std::numbers::pi;
+    if (m.specular > 0.0) {
+        // Source and receiver coincide, so the mirror direction is 2θ away from the view:
+        // cos 2θ = 2cos²θ − 1. (n+2)/(2π) normalises the Phong lobe.
+        const double cos2 = 2.0 * c * c - 1.0;
+        if (cos2 > 0.0) {
+            const double n = m.specular_exponent;
+            f += m.specular * (n + 2.0) / (2.0 * std::numbers::pi) * std::pow(cos2, n);
+        }
+    }
+    if (m.retroreflective) f += m.retro_gain;
+    return f;
+}
 
 // Seed 001 eq. 2 in SI: irradiance over the spot, normal to the beam, W/m²:
 // E = P·τ / (π·R²·tan²(β/2)), β the full divergence. Uses power, not spectral power: the laser
@@ -124,6 +144,10 @@ class Radiometry {
     // surface with BRDF `brdf` (sr⁻¹) at `range_m` and incidence cos θ₁ (eqs. 2–4).
     // Returns 0 for R ≤ 0 or cos θ₁ ≤ 0.
     double laser_power_w(double weight, double range_m, double brdf, double cos_incidence) const;
+    // The same with the two-way transmission τ(R)² supplied, so a pulse's sub-rays can share one
+    // exponential (the pipeline's hot path).
+    double laser_power_w(double weight, double range_m, double brdf, double cos_incidence,
+                         double tau_two_way) const;
     // Photo-electrons of the laser return (eq. 5): energy over the pulse × λη/(hc).
     double laser_electrons(double power_w) const;
     // Background photo-electrons (eqs. 6–10): sun on the surface (cos θ₂ = sun·normal, ≤ 0 → 0)
@@ -159,6 +183,46 @@ class Radiometry {
     double spot_over_pixel_ = 0, photons_per_joule_ = 0, tau_int_ = 0, noise_floor_e_ = 0;
     double tan2_half_beta_ = 0, collect_sr_ = 0, background_e_per_w_ = 0;
 };
+
+// Per-pulse functions, defined here so the pipeline's loop inlines them.
+inline double Radiometry::laser_power_w(double weight, double range_m, double brdf,
+                                        double cos_incidence, double tau_two_way) const {
+    if (!(range_m > 0.0) || !(cos_incidence > 0.0)) return 0.0;
+    // eq. 2: irradiance over the spot, normal to the beam (one-way τ folded into τ² below);
+    // eq. 3: radiance leaving the surface towards the receiver; eq. 4 (generalised): back
+    // through the atmosphere into A_r over min(Ω_pix, Ω_spot).
+    const double e = weight * peak_power_w_ * rx_.eta_transmitter /
+                     (std::numbers::pi * range_m * range_m * tan2_half_beta_);
+    const double l = brdf * e * std::min(cos_incidence, 1.0);
+    return l * tau_two_way * rx_.eta_receiver * aperture_m2_ * collect_sr_;
+}
+
+inline double Radiometry::laser_power_w(double weight, double range_m, double brdf,
+                                        double cos_incidence) const {
+    const double tau = env_.atmosphere.one_way(range_m);
+    return laser_power_w(weight, range_m, brdf, cos_incidence, tau * tau);
+}
+
+inline double Radiometry::laser_electrons(double power_w) const {
+    return power_w * beam_.pulse_width_s * photons_per_joule_ * rx_.quantum_efficiency;
+}
+inline double Radiometry::background_electrons(double range_m, double brdf_diffuse,
+                                               double cos_sun) const {
+    double radiance = env_.path_radiance_w_m2_sr_um;  // eq. 9
+    if (env_.sun.up() && cos_sun > 0.0) {
+        // eqs. 6–8: sunlit surface radiance, attenuated on the way back to the receiver.
+        radiance += brdf_diffuse * env_.sun.irradiance_w_m2_um * std::min(cos_sun, 1.0) *
+                    env_.atmosphere.one_way(range_m);
+    }
+    return radiance * background_e_per_w_;  // eq. 10
+}
+inline double Radiometry::delta_n(double n_laser, double n_other, double z) const {
+    const double floor = noise_floor_e_ * z;
+    return std::sqrt(floor * floor + std::max(n_laser, 0.0) + std::max(n_other, 0.0));
+}
+inline bool Radiometry::is_void(double n_laser, double n_other, double z) const {
+    return n_laser < rx_.threshold_gamma * delta_n(n_laser, n_other, z);
+}
 
 // Documented monotonic map from photo-electrons to integer intensity:
 // I = I_max · clamp(log(N/N_min) / log(N_max/N_min), 0, 1), rounded to nearest.

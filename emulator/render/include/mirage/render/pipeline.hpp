@@ -45,6 +45,12 @@ struct RenderStats {
     std::uint64_t too_close = 0;  // hit nearer than min range
     std::uint64_t rays = 0;       // sub-rays traced
     double seconds = 0;
+    // CPU time per stage summed over threads (CLOCK_THREAD_CPUTIME_ID): where the time goes,
+    // independent of other processes sharing the cores.
+    double cpu_rays_s = 0;    // pulse specs, poses, ray generation
+    double cpu_trace_s = 0;   // Renderer::intersect
+    double cpu_shade_s = 0;   // physics, noise, point records
+    double cpu_output_s = 0;  // the sink (e.g. LAS encoding), on the writer thread
 };
 
 // Progress: pulses done so far (called from the writer thread, rate-limited by the caller).

@@ -54,6 +54,9 @@ class SpinningPattern final : public ScanPattern {
         double azimuth_base_deg;  // 360·f·offset + az_offset
         double cos_el, sin_el;
         float elevation_deg;
+        // Base azimuth wrapped to [0, 360) and cos_el·cos/sin of it: a pulse's direction is the
+        // rotor rotation (one sincos per sequence) composed with these, by angle addition.
+        double base_wrapped_deg = 0, ecos_base = 0, esin_base = 0;
     };
     std::int64_t time_ns(std::uint64_t k) const;
 
