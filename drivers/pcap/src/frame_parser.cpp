@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "frame_parser.hpp"
+
+#include <pcap/dlt.h>
+
+#include <algorithm>
+
+namespace mirage::pcap::detail {
+namespace {
+
+constexpr std::uint16_t kEtherIpv4 = 0x0800;
+constexpr std::uint16_t kEtherVlan = 0x8100;
+constexpr std::uint16_t kEtherQinQ = 0x88a8;
+constexpr std::uint8_t kProtoUdp = 17;
+
+std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
+
+// Too few captured bytes: the capture's fault (snaplen) or the frame's (lying header).
+FrameStatus short_status(std::size_t caplen, std::uint32_t wire_len) {
+    return caplen < wire_len ? FrameStatus::Truncated : FrameStatus::BadHeader;
+}
+
+// Finds the network-layer start and its ethertype; false when the link header is cut.
+bool link_layer(int dlt, std::span<const std::uint8_t> f, std::size_t& offset,
+                std::uint16_t& ethertype) {
+    switch (dlt) {
+        case DLT_EN10MB: {
+            if (f.size() < 14) return false;
+            offset = 14;
+            ethertype = be16(&f[12]);
+            // Up to two tags (802.1ad outer + 802.1Q inner); each adds 4 bytes before the type.
+            for (int tags = 0; tags < 2 && (ethertype == kEtherVlan || ethertype == kEtherQinQ);
+                 ++tags) {
+                if (f.size() < offset + 4) return false;
+                ethertype = be16(&f[offset + 2]);
+                offset += 4;
+            }
+            return true;
+        }
+        case DLT_LINUX_SLL:  // 16-byte cooked header, protocol at 14
+            if (f.size() < 16) return false;
+            offset = 16;
+            ethertype = be16(&f[14]);
+            return true;
+        case DLT_LINUX_SLL2:  // 20-byte cooked v2 header, protocol at 0
+            if (f.size() < 20) return false;
+            offset = 20;
+            ethertype = be16(&f[0]);
+            return true;
+        case DLT_NULL: {  // BSD loopback: host-order address family; AF_INET is 2 everywhere
+            if (f.size() < 4) return false;
+            offset = 4;
+            const bool v4 = (f[0] == 2 && f[3] == 0) || (f[3] == 2 && f[0] == 0);
+            ethertype = v4 ? kEtherIpv4 : 0;
+            return true;
+        }
+        default:  // DLT_RAW / DLT_IPV4: the frame is the IP packet
+            offset = 0;
+            ethertype = (!f.empty() && (f[0] >> 4) == 4) ? kEtherIpv4 : 0;
+            return true;
+    }
+}
+
+}  // namespace
+
+FrameStatus parse_ipv4_frame(int dlt, std::span<const std::uint8_t> frame, std::uint32_t wire_len,
+                             Ipv4Packet& out) {
+    std::size_t off = 0;
+    std::uint16_t ethertype = 0;
+    if (!link_layer(dlt, frame, off, ethertype)) return short_status(frame.size(), wire_len);
+    if (ethertype != kEtherIpv4) return FrameStatus::NotIpv4;
+
+    const auto ip = frame.subspan(off);
+    if (ip.size() < 20) return short_status(frame.size(), wire_len);
+    if ((ip[0] >> 4) != 4) return FrameStatus::BadHeader;
+    const std::size_t header_len = static_cast<std::size_t>(ip[0] & 0x0f) * 4;
+    if (header_len < 20) return FrameStatus::BadHeader;
+    std::size_t total_len = be16(&ip[2]);
+    // Total length 0: a TSO/GSO super-packet captured on the sending host; the frame is the packet.
+    if (total_len == 0 && frame.size() == wire_len) total_len = ip.size();
+    if (total_len < header_len) return FrameStatus::BadHeader;
+    if (ip.size() < header_len) return short_status(frame.size(), wire_len);
+    if (ip.size() < total_len) return short_status(frame.size(), wire_len);
+
+    std::copy_n(&ip[12], 4, out.src.begin());
+    std::copy_n(&ip[16], 4, out.dst.begin());
+    out.id = be16(&ip[4]);
+    out.protocol = ip[9];
+    const std::uint16_t flags_offset = be16(&ip[6]);
+    out.more_fragments = (flags_offset & 0x2000) != 0;
+    out.fragment_offset = static_cast<std::uint32_t>(flags_offset & 0x1fff) * 8;
+    out.payload = ip.subspan(header_len, total_len - header_len);
+    if (out.protocol != kProtoUdp) return FrameStatus::NotUdp;
+    return FrameStatus::Ok;
+}
+
+FrameStatus parse_udp(std::span<const std::uint8_t> ip_payload, UdpDatagram& out) {
+    if (ip_payload.size() < 8) return FrameStatus::BadHeader;
+    const std::size_t udp_len = be16(&ip_payload[4]);
+    // A UDP length shorter than the IP payload is legal (trailing bytes are ignored, as Linux
+    // does); longer, or shorter than its own header, is not.
+    if (udp_len < 8 || udp_len > ip_payload.size()) return FrameStatus::BadHeader;
+    out.src.port = be16(&ip_payload[0]);
+    out.dst.port = be16(&ip_payload[2]);
+    out.payload.assign(ip_payload.begin() + 8,
+                       ip_payload.begin() + static_cast<std::ptrdiff_t>(udp_len));
+    return FrameStatus::Ok;
+}
+
+}  // namespace mirage::pcap::detail
