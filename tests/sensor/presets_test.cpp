@@ -16,7 +16,8 @@ namespace {
 
 TEST(Presets, every_preset_constructs_with_unit_directions) {
     const auto names = preset_names();
-    EXPECT_EQ(names.size(), 5u + 12u + 4u);
+    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 4 airborne.
+    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 4u);
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
     for (const auto& name : names) {
         const SensorModel m = preset(name);

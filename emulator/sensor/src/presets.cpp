@@ -7,6 +7,7 @@
 #include <string>
 
 #include "calibration_tables.hpp"
+#include "ouster_presets.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/airborne.hpp"
 #include "mirage/sensor/spinning.hpp"
@@ -99,8 +100,16 @@ Optics hdl64e_optics() {
 }
 // OS1: 865 nm SPAD, photon detection efficiency ≈ 0.25; 0.5 µJ, D = 25 mm, R = 120 m:
 //   0.5e-6·0.72·0.1·4.909e-4/(π·14400)·865e-9·0.25/1.98645e-25 = 425 e⁻.
+// OS0 (R = 50 m) and OS2 (R = 240 m) scale the energy with R² for the same 425 e⁻:
+//   0.5·(50/120)² = 0.087 µJ, 0.5·(240/120)² = 2.0 µJ.
 Optics os1_optics() {
     return {865, 0.50, 5, 3.0, 5, 25, 1.0, 0.25, 20, 0.5, 120, 0.001, 1, 0.03, 0.05};
+}
+Optics os0_optics() {
+    return {865, 0.087, 5, 3.0, 5, 25, 1.0, 0.25, 20, 0.3, 50, 0.001, 1, 0.03, 0.05};
+}
+Optics os2_optics() {
+    return {865, 2.0, 5, 3.0, 5, 25, 1.0, 0.25, 20, 0.5, 240, 0.001, 1, 0.03, 0.05};
 }
 // Airborne, 1064 nm, Si APD η = 0.4, D = 80 mm (A_r = 5.027e-3), 5 µJ, R = 2000 m:
 //   5e-6·0.72·0.1·5.027e-3/(π·4e6)·1064e-9·0.4/1.98645e-25 = 309 e⁻  (2.5 W mean at 500 kHz).
@@ -167,25 +176,11 @@ SensorModel make_hdl64e_s3() {
     return spinning_model("hdl64e-s3", std::move(c), hdl64e_optics());
 }
 
-// Ouster OS1: every beam of a column fires at the column time; column period 1/(W·F); azimuth
-// 360°·m/W + beam_azimuth_angles[r] clockwise (θ = −beam_az, wire-formats.md §2.8). The FLU frame
-// here is Ouster's *lidar* frame (column 0 along +x); Ouster's sensor frame is turned 180° about z.
-SensorModel make_os1(const std::string& name, int beams, int columns, int hz) {
-    SpinningConfig c;
-    c.sequence_period_ns = 1e9 / (double(columns) * hz);
-    c.rotation_hz = hz;
-    c.family = SpinningFamily::Ouster;
-    for (int r = 0; r < beams; ++r) {
-        const auto i = static_cast<std::size_t>(r);
-        if (beams == 64) {
-            c.lasers.push_back(
-                {tables::kOs1Gen1AltitudeDeg[i], tables::kOs1Gen1AzimuthCycleDeg[i % 4], 0.0});
-        } else {
-            c.lasers.push_back(
-                {tables::kOs1_128AltitudeDeg[i], tables::kOs1_128AzimuthDeg[i], 0.0});
-        }
-    }
-    return spinning_model(name, std::move(c), os1_optics());
+// Ouster OS0/OS1/OS2 (beam tables and timing in ouster_presets.cpp).
+SensorModel make_ouster(const std::string& name, const detail::OusterPresetSpec& spec) {
+    const Optics o = spec.product == 0 ? os0_optics() : spec.product == 1 ? os1_optics()
+                                                                          : os2_optics();
+    return spinning_model(name, detail::ouster_spinning_config(spec), o);
 }
 
 SensorModel airborne_model(const std::string& name, const AirborneConfig& cfg) {
@@ -207,13 +202,6 @@ AirborneConfig als_config(AirborneKind kind, double prf_khz, double rate_hz, dou
     c.fov_deg = fov_deg;
     c.facets = facets;
     return c;
-}
-
-constexpr int kOusterColumns[] = {512, 1024, 2048};
-constexpr int kOusterRates[] = {10, 20};
-
-std::string ouster_name(int beams, int w, int f) {
-    return "os1-" + std::to_string(beams) + "-" + std::to_string(w) + "x" + std::to_string(f);
 }
 
 }  // namespace
@@ -241,9 +229,7 @@ double lambertian_electrons(const BeamParams& beam, const ReceiverParams& rx, do
 
 std::vector<std::string> preset_names() {
     std::vector<std::string> names = {"vlp16", "vlp16-hires", "vlp32c", "hdl32e", "hdl64e-s3"};
-    for (int beams : {64, 128})
-        for (int w : kOusterColumns)
-            for (int f : kOusterRates) names.push_back(ouster_name(beams, w, f));
+    for (auto& n : detail::ouster_preset_names()) names.push_back(std::move(n));
     for (const char* n : {"als-mirror", "als-mirror-sine", "als-polygon", "als-palmer"})
         names.emplace_back(n);
     return names;
@@ -255,10 +241,8 @@ SensorModel preset(const std::string& name) {
     if (name == "vlp32c") return make_vlp32c();
     if (name == "hdl32e") return make_hdl32e();
     if (name == "hdl64e-s3") return make_hdl64e_s3();
-    for (int beams : {64, 128})
-        for (int w : kOusterColumns)
-            for (int f : kOusterRates)
-                if (name == ouster_name(beams, w, f)) return make_os1(name, beams, w, f);
+    if (detail::OusterPresetSpec os; detail::parse_ouster_preset(name, os))
+        return make_ouster(name, os);
     // Oscillating mirror: 50 Hz = 100 lines/s, ±20°, 500 kHz (physics.md §4.1 airborne pattern).
     if (name == "als-mirror")
         return airborne_model(name, als_config(AirborneKind::Sawtooth, 500, 50, 40));

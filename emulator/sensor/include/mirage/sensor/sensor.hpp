@@ -87,8 +87,8 @@ struct SensorModel {
     bool airborne = false;  // LAS scan angle = off-nadir, previews top-down
 };
 
-// Built-in presets: vlp16, vlp16-hires, vlp32c, hdl32e, hdl64e-s3, os1-64-<W>x<F>,
-// os1-128-<W>x<F> (W ∈ {512, 1024, 2048}, F ∈ {10, 20}), and airborne presets
+// Built-in presets: vlp16, vlp16-hires, vlp32c, hdl32e, hdl64e-s3, os<P>-<H>-<W>x<F> (Ouster
+// P ∈ {0, 1, 2}, H ∈ {32, 64, 128}, W ∈ {512, 1024, 2048}, F ∈ {10, 20}), and airborne presets
 // als-mirror (sawtooth, default), als-mirror-sine, als-polygon, als-palmer.
 std::vector<std::string> preset_names();
 SensorModel preset(const std::string& name);            // throws ConfigError if unknown

@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "mirage/core/time.hpp"
+
+namespace mirage::ouster {
+
+// config_params.timestamp_mode (wire-formats.md §2.9, nav-protocols.md).
+enum class TimestampMode : std::uint8_t {
+    InternalOsc,  // "TIME_FROM_INTERNAL_OSC": ns since power-on
+    SyncPulseIn,  // "TIME_FROM_SYNC_PULSE_IN" with a GPS/NMEA source: UTC ns since 1970
+    Ptp1588,      // "TIME_FROM_PTP_1588": TAI ns since 1970 (GPS + 19 s)
+};
+std::string to_string(TimestampMode m);
+
+// How the device stamps a GPS instant. Times before power-on read 0 (the counter starts there).
+struct SensorClock {
+    TimestampMode mode = TimestampMode::InternalOsc;
+    core::GpsTime power_on{};
+    std::uint64_t ns(core::GpsTime t) const;
+};
+
+}  // namespace mirage::ouster

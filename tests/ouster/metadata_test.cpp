@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: Apache-2.0
+// Metadata JSON (§2.7): our output reads back into the same descriptor, and the FW 2.x flat
+// shape has the key structure of the real OS-2 capture's JSON.
+#include "mirage/ouster/metadata.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "json_lite.hpp"
+#include "mirage/core/error.hpp"
+#include "test_paths.hpp"
+
+namespace mirage::ouster {
+namespace {
+
+std::set<std::string> keys(const json::Value& v) {
+    std::set<std::string> k;
+    for (const auto& m : v.members) k.insert(m.key);
+    return k;
+}
+
+void expect_same(const Descriptor& a, const Descriptor& b) {
+    EXPECT_EQ(a.line, b.line);
+    EXPECT_EQ(a.beams, b.beams);
+    EXPECT_EQ(a.mode, b.mode);
+    EXPECT_EQ(a.profile, b.profile);
+    EXPECT_EQ(a.columns_per_packet, b.columns_per_packet);
+    EXPECT_EQ(a.altitude_deg, b.altitude_deg);  // shortest round-trip decimals: bit-exact
+    EXPECT_EQ(a.azimuth_deg, b.azimuth_deg);
+    EXPECT_EQ(a.beam_origin_mm, b.beam_origin_mm);
+    EXPECT_EQ(a.lidar_to_sensor, b.lidar_to_sensor);
+    EXPECT_EQ(a.imu_to_sensor, b.imu_to_sensor);
+    EXPECT_EQ(a.serial, b.serial);
+    EXPECT_EQ(a.init_id, b.init_id);
+    EXPECT_EQ(a.udp_port_lidar, b.udp_port_lidar);
+    EXPECT_EQ(a.udp_port_imu, b.udp_port_imu);
+}
+
+TEST(OusterMetadata, both_shapes_read_back_into_the_same_descriptor) {
+    for (const char* name : {"os1-64-1024x10", "os2-128-2048x10", "os0-32-512x20"})
+        for (Profile p : {Profile::Legacy, Profile::Rng19Rfl8Sig16Nir16, Profile::Rng15Rfl8Nir8})
+            for (MetadataShape shape : {MetadataShape::Nested, MetadataShape::Fw2Flat}) {
+                const Descriptor d = make_descriptor(name, p);
+                const std::string text = metadata_json(d, {shape});
+                expect_same(descriptor_from_metadata(text, name), d);
+            }
+}
+
+TEST(OusterMetadata, nested_shape_has_the_sections_the_sdk_reads) {
+    const Descriptor d = make_descriptor("os1-128-1024x20", Profile::Rng19Rfl8Sig16Nir16);
+    const json::Value v =
+        json::parse(metadata_json(d, {MetadataShape::Nested, TimestampMode::Ptp1588, "10.0.0.2"}));
+    EXPECT_EQ(keys(v), (std::set<std::string>{"sensor_info", "beam_intrinsics", "lidar_data_format",
+                                              "config_params", "imu_intrinsics", "lidar_intrinsics",
+                                              "calibration_status"}));
+    const auto* fmt = v.find("lidar_data_format");
+    EXPECT_EQ(fmt->find("columns_per_frame")->number, 1024);
+    EXPECT_EQ(fmt->find("pixels_per_column")->number, 128);
+    EXPECT_EQ(fmt->find("column_window")->items[1].number, 1023);
+    EXPECT_EQ(fmt->find("pixel_shift_by_row")->items.size(), 128u);
+    EXPECT_EQ(fmt->find("udp_profile_lidar")->text, "RNG19_RFL8_SIG16_NIR16");
+    const auto* cfg = v.find("config_params");
+    EXPECT_EQ(cfg->find("lidar_mode")->text, "1024x20");
+    EXPECT_EQ(cfg->find("timestamp_mode")->text, "TIME_FROM_PTP_1588");
+    EXPECT_EQ(cfg->find("udp_dest")->text, "10.0.0.2");
+    EXPECT_EQ(cfg->find("udp_port_imu")->number, 7503);
+    const auto* info = v.find("sensor_info");
+    EXPECT_EQ(info->find("prod_line")->text, "OS-1-128");
+    EXPECT_EQ(info->find("prod_sn")->text, std::to_string(d.serial));
+    EXPECT_EQ(info->find("initialization_id")->number, double(d.init_id));
+    const auto* bi = v.find("beam_intrinsics");
+    EXPECT_EQ(bi->find("beam_to_lidar_transform")->items[3].number, 15.806);
+}
+
+TEST(OusterMetadata, flat_shape_has_the_key_structure_of_the_real_os2_json) {
+    MIRAGE_CAPTURE_OR_SKIP(json_path, "os2_128_rng19.json");
+    std::ifstream in(json_path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const json::Value real = json::parse(ss.str());
+    const Descriptor d = load_metadata(json_path.string());
+    const json::Value ours = json::parse(metadata_json(d, {MetadataShape::Fw2Flat}));
+    EXPECT_EQ(keys(ours), keys(real));
+    EXPECT_EQ(keys(*ours.find("data_format")), keys(*real.find("data_format")));
+    // Same values where the capture's descriptor defines them.
+    for (const char* k : {"pixel_shift_by_row", "column_window"}) {
+        const auto& a = ours.find("data_format")->find(k)->items;
+        const auto& b = real.find("data_format")->find(k)->items;
+        ASSERT_EQ(a.size(), b.size()) << k;
+        for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].number, b[i].number) << k << i;
+    }
+    for (const char* k : {"initialization_id", "lidar_origin_to_beam_origin_mm", "udp_port_lidar"})
+        EXPECT_EQ(ours.find(k)->number, real.find(k)->number) << k;
+    for (const char* k : {"prod_sn", "prod_line", "lidar_mode", "build_rev", "prod_pn"})
+        EXPECT_EQ(ours.find(k)->text, real.find(k)->text) << k;
+}
+
+TEST(OusterMetadata, malformed_metadata_names_the_input_and_key) {
+    const auto error_of = [](const std::string& text) {
+        try {
+            descriptor_from_metadata(text, "m.json");
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(error_of("{\"beam_altitude_angles\": [1, 2]"),
+              "ouster metadata 'm.json': (document): line 1: expected '}'");
+    const std::string angles64 = [] {
+        std::string s = "[";
+        for (int i = 0; i < 64; ++i) s += (i ? ", " : "") + std::to_string(i);
+        return s + "]";
+    }();
+    EXPECT_EQ(error_of("{\"beam_altitude_angles\": " + angles64 +
+                       ", \"beam_azimuth_angles\": " + angles64 + ", \"lidar_mode\": \"999x1\"}")
+                  .rfind("ouster metadata 'm.json': lidar_mode: ouster: unknown lidar mode", 0),
+              0u);
+    EXPECT_EQ(error_of("{\"beam_altitude_angles\": " + angles64 + ", \"beam_azimuth_angles\": [1]" +
+                       ", \"lidar_mode\": \"1024x10\"}"),
+              "ouster metadata 'm.json': beam_azimuth_angles: expected 64 angles");
+    EXPECT_THROW(load_metadata("/nonexistent/x.json"), IoError);
+}
+
+}  // namespace
+}  // namespace mirage::ouster
