@@ -11,5 +11,7 @@ void register_demo(CLI::App& app);
 void register_bench(CLI::App& app);
 void register_las_info(CLI::App& app);
 void register_sensors(CLI::App& app);
+void register_emulate(CLI::App& app);
+void register_stream_bench(CLI::App& app);
 
 }  // namespace mirage::hil

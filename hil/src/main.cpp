@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
     mirage::hil::register_bench(app);
     mirage::hil::register_las_info(app);
     mirage::hil::register_sensors(app);
+    mirage::hil::register_emulate(app);
+    mirage::hil::register_stream_bench(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: Apache-2.0
+// `mirage emulate`: a fake Velodyne / Ouster on the network — the core's returns encoded as the
+// vendor's UDP packets, paced on the sensor clock, optionally captured to a pcap.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "commands.hpp"
+#include "job.hpp"
+#include "mirage/core/error.hpp"
+#include "mirage/core/time.hpp"
+#include "packet_output.hpp"
+#include "packetizer_factory.hpp"
+#include "stop_signal.hpp"
+#include "summary.hpp"
+
+namespace mirage::hil {
+namespace {
+
+// Pipeline points into the packetizer; pulses without returns still advance it.
+class PacketizerSink : public render::PointSink {
+  public:
+    explicit PacketizerSink(wire::Packetizer& p) : p_(p) {}
+    void write(std::span<const core::PointRecord> points) override { p_.add(points); }
+    void pulses_done(std::uint64_t next_pulse) override { p_.advance_to(next_pulse); }
+
+  private:
+    wire::Packetizer& p_;
+};
+
+// "gps:<seconds>.<ns>" of the host's clock now, whole ms: a live fake sensor stamps the present.
+std::string gps_now_spec() {
+    const auto unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+    const std::int64_t gps_ns =
+        core::gps_from_unix_ns(unix_ns / 1'000'000 * 1'000'000).time_since_epoch().count();
+    return fmt::format("gps:{}.{:09d}", gps_ns / 1'000'000'000, gps_ns % 1'000'000'000);
+}
+
+std::string default_side_path(const std::string& pcap, const std::string& ext) {
+    std::filesystem::path p(pcap);
+    p.replace_extension(ext);
+    return p.string();
+}
+
+void write_text(const std::string& path, const std::string& text, const char* what) {
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    f << text;
+    f.close();
+    if (!f) throw IoError(fmt::format("emulate: cannot write {} file '{}'", what, path));
+}
+
+}  // namespace
+
+void register_emulate(CLI::App& app) {
+    auto* cmd = app.add_subcommand(
+        "emulate",
+        "Stream a fake Velodyne or Ouster sensor as UDP packets (and/or a pcap) from a scene");
+    struct Opts {
+        JobInputs job;
+        std::string pose;
+        std::string to;
+        std::uint16_t data_port = 0, position_port = 8308, imu_port = 7503, source_port = 0;
+        WireOptions wire;
+        double rpm = 0;
+        std::string pcap;
+        std::string calibration_out;
+        bool realtime = false, afap = false, no_status = false;
+    };
+    auto o = std::make_shared<Opts>();
+    add_job_options(*cmd, o->job);
+    cmd->add_option("--pose", o->pose,
+                    "Static sensor pose x,y,z[,roll,pitch,yaw] (local m, deg); instead of "
+                    "--trajectory");
+    cmd->add_option("--to", o->to,
+                    "Destination IPv4 host: unicast, broadcast (255.255.255.255 or a subnet's) "
+                    "or multicast (224.0.0.0/4); without it nothing is sent");
+    cmd->add_option("--data-port", o->data_port,
+                    "Destination port of lidar data (default 2368 Velodyne, 7502 Ouster)");
+    cmd->add_option("--position-port", o->position_port, "Velodyne position packets (0: off)")
+        ->capture_default_str();
+    cmd->add_option("--imu-port", o->imu_port, "Ouster IMU packets (0: off)")
+        ->capture_default_str();
+    cmd->add_option("--source-port", o->source_port,
+                    "Local port to send data from (a Velodyne sends 2368 -> 2368); 0: any");
+    cmd->add_option("--return-mode", o->wire.return_mode, "Velodyne: strongest, last or dual")
+        ->check(CLI::IsMember({"strongest", "last", "dual"}))
+        ->capture_default_str();
+    cmd->add_option("--rpm", o->rpm, "Velodyne rotation rate (model's range, e.g. 300-1200)");
+    cmd->add_option("--profile", o->wire.profile,
+                    "Ouster UDP profile: LEGACY, RNG19_RFL8_SIG16_NIR16 or RNG15_RFL8_NIR8")
+        ->capture_default_str();
+    cmd->add_option("--pcap", o->pcap, "Also write the packets to this pcap (ns timestamps)");
+    cmd->add_option("--calibration-out", o->calibration_out,
+                    "Velodyne calibration YAML (ROS velodyne_pointcloud) or Ouster metadata JSON; "
+                    "default: next to --pcap");
+    auto* rt =
+        cmd->add_flag("--realtime", o->realtime, "Pace packets on the sensor clock (default)");
+    cmd->add_flag("--as-fast-as-possible", o->afap, "Do not pace (pcap generation, benchmarks)")
+        ->excludes(rt);
+    cmd->add_flag("--no-status", o->no_status, "No status line on stderr");
+    cmd->callback([o] {
+        JobInputs in = o->job;
+        if (!o->pose.empty()) {
+            if (!in.trajectory.empty())
+                throw ConfigError("emulate: give --pose or --trajectory, not both");
+            in.trajectory = "static:" + o->pose;
+        }
+        if (o->to.empty() && o->pcap.empty())
+            throw ConfigError("emulate: nothing to do: give --to HOST and/or --pcap FILE");
+        const bool is_static = in.trajectory.empty() || in.trajectory.rfind("static:", 0) == 0;
+        const bool forever = is_static && in.duration.empty();
+        if (forever) in.duration = "86400";  // until interrupted (a day at most)
+        const bool csv =
+            !is_static && in.trajectory != "demo-car" && in.trajectory != "demo-flight";
+        if (in.start.empty() && !csv) in.start = gps_now_spec();
+
+        Job job = load_job(in);
+        prepare_sensor(job, o->wire, o->rpm);
+        const bool ouster = job.sensor.name.rfind("os", 0) == 0;
+
+        PacketOutputOptions po;
+        po.realtime = !o->afap;
+        po.status_line = !o->no_status;
+        po.pcap_path = o->pcap;
+        udp::StreamPorts ports;
+        ports.data = o->data_port ? o->data_port : (ouster ? 7502 : 2368);
+        ports.position = ouster ? 0 : o->position_port;
+        ports.imu = ouster ? o->imu_port : 0;
+        po.pcap_source_ports = {ports.data, ports.position, ports.imu};
+        po.pcap_dest_ports = ports;
+        if (!o->to.empty()) {
+            udp::SenderConfig sc;
+            sc.host = o->to;
+            sc.ports = ports;
+            sc.source_ports.data = o->source_port;
+            po.udp = sc;
+        }
+        PacketOutput out(po);
+        WireSetup w = make_wire(
+            job, o->wire, [&out](const wire::PacketView& p) { out(p); }, o->to);
+        std::string side = o->calibration_out;
+        if (side.empty() && !o->pcap.empty()) side = default_side_path(o->pcap, w.side_file_ext);
+        if (!side.empty()) write_text(side, w.side_file, w.side_file_kind.c_str());
+
+        std::fprintf(
+            stderr, "mirage emulate: %s %s -> %s%s, %.0f data packets/s%s\n", w.vendor.c_str(),
+            job.sensor.name.c_str(),
+            o->to.empty() ? "(no network)" : fmt::format("{}:{}", o->to, ports.data).c_str(),
+            o->pcap.empty() ? "" : (" + " + o->pcap).c_str(), w.packets_per_second,
+            forever ? ", until Ctrl-C" : "");
+        const auto& stop = install_stop_signal();
+        PacketizerSink sink(*w.packetizer);
+        const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
+                                          job.mount, job.env, job.options, sink, {}, &stop);
+        w.packetizer->finish();
+        const PacketOutputTotals t = out.finish();
+        std::printf(
+            "mirage emulate: %llu packets (%.2f MB) in %.3f s, %llu points from %llu pulses; "
+            "sent %llu, failed sends %llu, pcap %llu; lateness p50 %.0f µs, p99 %.0f µs, worst "
+            "%.0f µs, late %llu%s\n",
+            static_cast<unsigned long long>(t.packets), double(t.bytes) / 1e6, t.seconds,
+            static_cast<unsigned long long>(stats.points),
+            static_cast<unsigned long long>(stats.pulses), static_cast<unsigned long long>(t.sent),
+            static_cast<unsigned long long>(t.send_failed),
+            static_cast<unsigned long long>(t.pcap_packets), double(t.p50.count()) / 1e3,
+            double(t.p99.count()) / 1e3, double(t.worst_late.count()) / 1e3,
+            static_cast<unsigned long long>(t.late), stop.load() ? " (interrupted)" : "");
+        if (!side.empty()) std::printf("  wrote %s %s\n", w.side_file_kind.c_str(), side.c_str());
+    });
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "packet_output.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+#include "mirage/core/error.hpp"
+#include "mirage/core/time.hpp"
+
+namespace mirage::hil {
+namespace {
+
+udp::PacerConfig pacer_config(bool realtime) {
+    udp::PacerConfig c;
+    c.as_fast_as_possible = !realtime;
+    return c;
+}
+
+}  // namespace
+
+PacketOutput::PacketOutput(PacketOutputOptions options)
+    : opt_(std::move(options)), pacer_(pacer_config(opt_.realtime)) {
+    if (opt_.udp) {
+        sender_ = std::make_unique<udp::UdpSender>(*opt_.udp);
+        pcap_dst_.ip = sender_->destination();
+        pcap_dst_ports_ = opt_.udp->ports;
+    } else {
+        pcap_dst_.ip = {255, 255, 255, 255};  // what a factory-configured sensor sends to
+        pcap_dst_ports_ = opt_.pcap_dest_ports;
+    }
+    if (!opt_.pcap_path.empty()) pcap_ = std::make_unique<pcap::Writer>(opt_.pcap_path, true);
+}
+
+void PacketOutput::operator()(const wire::PacketView& packet) {
+    const auto now = std::chrono::steady_clock::now();
+    if (!started_) {
+        started_ = true;
+        first_ = last_status_ = now;
+    }
+    if (opt_.realtime) pacer_.wait(packet.time);
+    if (sender_) {
+        if (sender_->send(packet))
+            ++totals_.sent;
+        else
+            ++totals_.send_failed;
+    }
+    if (pcap_) {
+        pcap::Endpoint src = opt_.pcap_source, dst = pcap_dst_;
+        src.port = opt_.pcap_source_ports.port(packet.stream);
+        dst.port = pcap_dst_ports_.port(packet.stream);
+        if (pcap_->write(core::unix_ns_from_gps(packet.time), src, dst, packet.bytes))
+            ++totals_.pcap_packets;
+    }
+    ++totals_.packets;
+    totals_.bytes += packet.bytes.size();
+    if (opt_.status_line && now - last_status_ >= std::chrono::seconds(1)) print_status(false);
+}
+
+void PacketOutput::print_status(bool final) {
+    const auto now = std::chrono::steady_clock::now();
+    const double dt = std::chrono::duration<double>(now - last_status_).count();
+    const double rate = dt > 0 ? double(totals_.packets - packets_at_status_) / dt : 0.0;
+    const double mbit = dt > 0 ? 8e-6 * double(totals_.bytes - bytes_at_status_) / dt : 0.0;
+    const auto& st = pacer_.stats();
+    std::fprintf(stderr,
+                 "\r%8.1f s  %7.0f packets/s  %7.2f Mbit/s  late %llu  worst %.0f µs  failed "
+                 "sends %llu   %s",
+                 std::chrono::duration<double>(now - first_).count(), rate, mbit,
+                 static_cast<unsigned long long>(st.late()), double(st.worst().count()) / 1e3,
+                 static_cast<unsigned long long>(totals_.send_failed), final ? "\n" : "");
+    std::fflush(stderr);
+    last_status_ = now;
+    packets_at_status_ = totals_.packets;
+    bytes_at_status_ = totals_.bytes;
+}
+
+PacketOutputTotals PacketOutput::finish() {
+    if (opt_.status_line && started_) {
+        if (std::chrono::steady_clock::now() - last_status_ > std::chrono::milliseconds(300))
+            print_status(true);
+        else if (totals_.packets > 0 && packets_at_status_ > 0)
+            std::fputc('\n', stderr);  // end the status line printed just now
+    }
+    if (pcap_) pcap_->close();
+    const auto& st = pacer_.stats();
+    totals_.late = st.late();
+    totals_.worst_late = st.worst();
+    totals_.p50 = st.percentile(0.50);
+    totals_.p99 = st.percentile(0.99);
+    totals_.seconds =
+        started_ ? std::chrono::duration<double>(std::chrono::steady_clock::now() - first_).count()
+                 : 0.0;
+    return totals_;
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "mirage/pcap/writer.hpp"
+#include "mirage/udp/pacer.hpp"
+#include "mirage/udp/udp_sender.hpp"
+#include "mirage/wire/packet.hpp"
+
+namespace mirage::hil {
+
+struct PacketOutputOptions {
+    std::optional<udp::SenderConfig> udp;               // none: no network output
+    std::string pcap_path;                              // empty: no capture file
+    pcap::Endpoint pcap_source{{192, 168, 1, 201}, 0};  // the emulated device's address
+    udp::StreamPorts pcap_source_ports{2368, 8308, 7503};
+    udp::StreamPorts pcap_dest_ports{2368, 8308, 7503};  // the UDP config's ports when sending
+    bool realtime = true;  // pace on the sensor clock; false: as fast as possible
+    bool status_line = true;
+};
+
+struct PacketOutputTotals {
+    std::uint64_t packets = 0, bytes = 0, sent = 0, send_failed = 0, pcap_packets = 0;
+    std::uint64_t late = 0;  // later than the pacer's threshold
+    core::Nanos worst_late{0}, p50{0}, p99{0};
+    double seconds = 0;  // host time from the first packet to the last
+};
+
+// Where packets go: paced by absolute deadlines on the sensor clock, sent over UDP, written to a
+// pcap with their sensor-clock send times, and summarised in a status line once a second.
+class PacketOutput {
+  public:
+    explicit PacketOutput(PacketOutputOptions options);  // throws ConfigError / IoError
+    void operator()(const wire::PacketView& packet);     // never throws on send errors
+    // Flushes and closes the pcap (throws IoError on a write error) and ends the status line.
+    PacketOutputTotals finish();
+    const PacketOutputOptions& options() const { return opt_; }
+
+  private:
+    void print_status(bool final);
+
+    PacketOutputOptions opt_;
+    std::unique_ptr<udp::UdpSender> sender_;
+    std::unique_ptr<pcap::Writer> pcap_;
+    pcap::Endpoint pcap_dst_;
+    udp::StreamPorts pcap_dst_ports_;
+    udp::Pacer pacer_;
+    PacketOutputTotals totals_;
+    std::chrono::steady_clock::time_point first_{}, last_status_{};
+    std::uint64_t packets_at_status_ = 0, bytes_at_status_ = 0;
+    bool started_ = false;
+};
+
+}  // namespace mirage::hil

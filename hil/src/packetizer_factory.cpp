@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "packetizer_factory.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "mirage/core/error.hpp"
+#include "mirage/ouster/descriptor.hpp"
+#include "mirage/ouster/imu.hpp"
+#include "mirage/ouster/metadata.hpp"
+#include "mirage/ouster/packetizer.hpp"
+#include "mirage/sensor/spinning.hpp"
+#include "mirage/velodyne/calibration.hpp"
+#include "mirage/velodyne/model.hpp"
+#include "mirage/velodyne/packetizer.hpp"
+
+namespace mirage::hil {
+namespace {
+
+bool is_ouster(const std::string& name) { return name.rfind("os", 0) == 0; }
+
+[[noreturn]] void no_wire_format(const std::string& name) {
+    throw ConfigError(fmt::format(
+        "emulate: sensor '{}' has no wire format; use a Velodyne preset (vlp16, vlp16-hires, "
+        "vlp32c, hdl32e, hdl64e-s3) or an Ouster preset (os<0|1|2>-<32|64|128>-<W>x<F>)",
+        name));
+}
+
+// Position of the sensor for the Velodyne $GPRMC: the trajectory through the scene's georef.
+velodyne::PositionFn position_fn(const Job& job) {
+    const scene::Scene* s = job.scene.get();
+    const core::Trajectory* traj = &job.trajectory;
+    return [s, traj](core::GpsTime t) {
+        velodyne::GeoFix fix;
+        try {
+            const Eigen::Vector3d p = traj->at(t).position;
+            const Eigen::Vector3d llh = s->georef.geodetic_from_local(p);
+            fix.lat_deg = llh.x();
+            fix.lon_deg = llh.y();
+            // Speed and course over ground from ±0.5 s (a 1 Hz receiver's view).
+            const core::Nanos h = std::chrono::milliseconds(500);
+            const Eigen::Vector3d v = traj->at(t + h).position - traj->at(t - h).position;
+            fix.speed_knots = v.head<2>().norm() * 3600.0 / 1852.0;  // m per 1 s → knots
+            double course = std::atan2(v.x(), v.y()) * 180.0 / 3.14159265358979323846;
+            if (course < 0) course += 360.0;
+            fix.course_deg = course;
+        } catch (const Error&) {
+            fix.valid = false;  // no CRS: the receiver reports "no fix"
+        }
+        return fix;
+    };
+}
+
+}  // namespace
+
+void prepare_sensor(Job& job, const WireOptions& options, double rpm) {
+    const std::string& name = job.sensor.name;
+    const bool velodyne = velodyne::model_from_name(name).has_value();
+    if (!velodyne && !is_ouster(name)) no_wire_format(name);
+    if (rpm > 0) {
+        if (!velodyne)
+            throw ConfigError(fmt::format(
+                "emulate: --rpm applies to Velodyne sensors; Ouster '{}' spins at the rate of "
+                "its lidar mode (<W>x<F>)",
+                name));
+        const auto* sp = dynamic_cast<const sensor::SpinningPattern*>(job.sensor.scan.get());
+        if (!sp) no_wire_format(name);
+        sensor::SpinningConfig cfg = sp->config();
+        cfg.rotation_hz = rpm / 60.0;
+        job.sensor.scan = std::make_shared<sensor::SpinningPattern>(cfg);
+    }
+    if (velodyne) {
+        const auto mode = velodyne::parse_return_mode(options.return_mode);
+        // Last and dual need every echo of a pulse; the packetizer picks from them.
+        if (mode != velodyne::ReturnMode::Strongest)
+            job.sensor.receiver.max_returns = std::max(job.sensor.receiver.max_returns, 8);
+    } else if (options.return_mode != "strongest") {
+        throw ConfigError(fmt::format(
+            "emulate: --return-mode {}: the Ouster profiles emulated here are single-return "
+            "(strongest)",
+            options.return_mode));
+    }
+}
+
+WireSetup make_wire(const Job& job, const WireOptions& options, wire::PacketFn sink,
+                    const std::string& udp_host) {
+    WireSetup w;
+    const std::string& name = job.sensor.name;
+    if (const auto model = velodyne::model_from_name(name)) {
+        const auto& d = velodyne::descriptor(*model);
+        const auto mode = velodyne::parse_return_mode(options.return_mode);
+        velodyne::PacketizerOptions po;
+        po.position = position_fn(job);
+        auto p = std::make_unique<velodyne::Packetizer>(d, mode, job.sensor, job.options.start,
+                                                        std::move(sink), po);
+        w.packets_per_second = d.packets_per_second(mode);  // firing timing is fixed; rpm is not
+        w.packetizer = std::move(p);
+        w.vendor = "velodyne";
+        w.side_file = velodyne::calibration_yaml(d);
+        w.side_file_kind = "calibration";
+        w.side_file_ext = ".yaml";
+        return w;
+    }
+    if (!is_ouster(name)) no_wire_format(name);
+    const auto profile = ouster::parse_profile(options.profile);
+    const ouster::Descriptor d = ouster::make_descriptor(name, profile);
+    ouster::PacketizerConfig cfg;
+    cfg.start = job.options.start;
+    const core::Trajectory* traj = &job.trajectory;
+    const core::Mount mount = job.mount;
+    cfg.imu = [traj, mount, d](core::GpsTime t) { return ouster::imu_reading(*traj, mount, d, t); };
+    w.packetizer = std::make_unique<ouster::OusterPacketizer>(d, cfg, std::move(sink));
+    w.packets_per_second = double(d.mode.hz) * double(d.packets_per_frame());
+    w.vendor = "ouster";
+    ouster::MetadataOptions mo;
+    if (!udp_host.empty()) mo.udp_dest = udp_host;
+    w.side_file = ouster::metadata_json(d, mo);
+    w.side_file_kind = "metadata";
+    w.side_file_ext = ".json";
+    return w;
+}
+
+}  // namespace mirage::hil
