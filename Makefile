@@ -4,7 +4,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: demo test build deps asan bench format clean
+.PHONY: demo test build deps asan fuzz bench format clean
 
 deps:
 	@scripts/install-deps
@@ -26,6 +26,14 @@ asan: deps
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ctest --output-on-failure -j $(JOBS) -L unit
 
+# libFuzzer (Clang) on the packet decoders under ASan+UBSan, FUZZ_SECONDS each, seeded with the
+# real captures' packets when ../shared/captures is present.
+FUZZ_SECONDS ?= 30
+fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
+	cmake --build build-fuzz -j $(JOBS) --target fuzz_velodyne_decode fuzz_ouster_decode
+	scripts/run-fuzz build-fuzz $(FUZZ_SECONDS)
+
 bench: build
 	$(BUILD)/hil/mirage bench
 
@@ -33,4 +41,4 @@ format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
 
 clean:
-	rm -rf $(BUILD) build-asan
+	rm -rf $(BUILD) build-asan build-fuzz
