@@ -199,7 +199,8 @@ class PulseShader {
           sun_up_(env.sun.up()),
           to_sun_(env.sun.to_sun_enu()),
           // Sub-ray hits closer than the pulse's range resolution merge into one return.
-          separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s) {}
+          separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s),
+          log_range_(opt.intensity.log_range()) {}
 
     void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ChunkResult& out) const {
@@ -363,7 +364,7 @@ class PulseShader {
             pt.scan_angle_deg = spec.scan_angle_deg;
             pt.azimuth_deg = spec.azimuth_deg;
             pt.n_laser = n_laser;
-            pt.intensity = opt_.intensity.to_u16(n_laser);
+            pt.intensity = opt_.intensity.to_u16(n_laser, log_range_);
             pt.channel = spec.channel;
             pt.point_source_id = sensor_.point_source_id;
             pt.red = m.red;
@@ -391,6 +392,7 @@ class PulseShader {
     bool sun_up_;
     Eigen::Vector3d to_sun_;
     double separation_m_;
+    double log_range_;  // of the intensity calibration, computed once
 };
 
 double thread_cpu_s() {

@@ -233,6 +233,19 @@ struct IntensityCalibration {
     double n_max = 1e6;
     std::uint16_t to_u16(double n_laser) const;  // LAS, 0..65535
     std::uint8_t to_u8(double n_laser) const;    // vendor packets, 0..255
+    // log(n_max / n_min), for callers that convert many values (one log per value instead of
+    // two); to_u16(n) == to_u16(n, log_range()) exactly.
+    double log_range() const { return std::log(n_max / n_min); }
+    std::uint16_t to_u16(double n_laser, double log_range) const {
+        return static_cast<std::uint16_t>(std::lround(fraction(n_laser, log_range) * 65535.0));
+    }
+    // Fraction in [0, 1] of the log-scaled range (the map above before scaling).
+    double fraction(double n, double log_range) const {
+        if (!(n_min > 0.0) || !(n_max > n_min)) return n >= n_max ? 1.0 : 0.0;
+        if (!(n > n_min)) return 0.0;  // also 0, negative and NaN
+        if (n >= n_max) return 1.0;
+        return std::clamp(std::log(n / n_min) / log_range, 0.0, 1.0);
+    }
 };
 
 }  // namespace mirage::physics
