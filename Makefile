@@ -15,6 +15,7 @@ build: deps
 
 demo: build
 	$(BUILD)/hil/mirage demo
+	scripts/demo-stream $(BUILD)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE 'bench|asan'

@@ -15,11 +15,13 @@ find_package(PROJ REQUIRED CONFIG)          # libproj-dev: EPSG -> WKT, projecte
 find_package(CLI11 REQUIRED)                # libcli11-dev: command line
 find_package(fmt REQUIRED)                  # libfmt-dev: formatting
 find_package(PNG REQUIRED)                  # libpng-dev: preview images
+find_package(PCL 1.13 QUIET COMPONENTS common io)  # libpcl-dev: an independent Velodyne client
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET libpcap)  # libpcap-dev: pcap capture files
+pkg_check_modules(LZMA REQUIRED IMPORTED_TARGET liblzma)  # liblzma-dev: CRC-64/XZ (Ouster)
+find_package(nlohmann_json 3.11 REQUIRED)  # nlohmann-json3-dev: Ouster metadata JSON
 find_package(Boost 1.74 REQUIRED)           # libboost-dev: Boost.Asio (header-only) UDP sockets
 if(MIRAGE_BUILD_TESTS)
   find_package(GTest REQUIRED)              # googletest
   find_package(benchmark REQUIRED)          # libbenchmark-dev
-  find_package(PCL 1.13 QUIET COMPONENTS common io)  # libpcl-dev: an independent Velodyne client
 endif()
