@@ -6,19 +6,21 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
-#include "json_lite.hpp"
 #include "mirage/core/error.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::ouster {
 namespace {
 
-std::set<std::string> keys(const json::Value& v) {
+using Json = nlohmann::json;
+
+std::set<std::string> keys(const Json& v) {
     std::set<std::string> k;
-    for (const auto& m : v.members) k.insert(m.key);
+    for (const auto& m : v.items()) k.insert(m.key());
     return k;
 }
 
@@ -51,28 +53,32 @@ TEST(OusterMetadata, both_shapes_read_back_into_the_same_descriptor) {
 
 TEST(OusterMetadata, nested_shape_has_the_sections_the_sdk_reads) {
     const Descriptor d = make_descriptor("os1-128-1024x20", Profile::Rng19Rfl8Sig16Nir16);
-    const json::Value v =
-        json::parse(metadata_json(d, {MetadataShape::Nested, TimestampMode::Ptp1588, "10.0.0.2"}));
+    const Json v =
+        Json::parse(metadata_json(d, {MetadataShape::Nested, TimestampMode::Ptp1588, "10.0.0.2"}));
     EXPECT_EQ(keys(v), (std::set<std::string>{"sensor_info", "beam_intrinsics", "lidar_data_format",
                                               "config_params", "imu_intrinsics", "lidar_intrinsics",
                                               "calibration_status"}));
-    const auto* fmt = v.find("lidar_data_format");
-    EXPECT_EQ(fmt->find("columns_per_frame")->number, 1024);
-    EXPECT_EQ(fmt->find("pixels_per_column")->number, 128);
-    EXPECT_EQ(fmt->find("column_window")->items[1].number, 1023);
-    EXPECT_EQ(fmt->find("pixel_shift_by_row")->items.size(), 128u);
-    EXPECT_EQ(fmt->find("udp_profile_lidar")->text, "RNG19_RFL8_SIG16_NIR16");
-    const auto* cfg = v.find("config_params");
-    EXPECT_EQ(cfg->find("lidar_mode")->text, "1024x20");
-    EXPECT_EQ(cfg->find("timestamp_mode")->text, "TIME_FROM_PTP_1588");
-    EXPECT_EQ(cfg->find("udp_dest")->text, "10.0.0.2");
-    EXPECT_EQ(cfg->find("udp_port_imu")->number, 7503);
-    const auto* info = v.find("sensor_info");
-    EXPECT_EQ(info->find("prod_line")->text, "OS-1-128");
-    EXPECT_EQ(info->find("prod_sn")->text, std::to_string(d.serial));
-    EXPECT_EQ(info->find("initialization_id")->number, double(d.init_id));
-    const auto* bi = v.find("beam_intrinsics");
-    EXPECT_EQ(bi->find("beam_to_lidar_transform")->items[3].number, 15.806);
+    const Json& fmt = v.at("lidar_data_format");
+    EXPECT_EQ(fmt.at("columns_per_frame"), 1024);
+    EXPECT_EQ(fmt.at("pixels_per_column"), 128);
+    EXPECT_EQ(fmt.at("column_window"), Json::array({0, 1023}));
+    EXPECT_EQ(fmt.at("pixel_shift_by_row").size(), 128u);
+    EXPECT_EQ(fmt.at("udp_profile_lidar"), "RNG19_RFL8_SIG16_NIR16");
+    EXPECT_EQ(fmt.at("fps"), 20);
+    const Json& cfg = v.at("config_params");
+    EXPECT_EQ(cfg.at("lidar_mode"), "1024x20");
+    EXPECT_EQ(cfg.at("timestamp_mode"), "TIME_FROM_PTP_1588");
+    EXPECT_EQ(cfg.at("udp_dest"), "10.0.0.2");
+    EXPECT_EQ(cfg.at("udp_port_imu"), 7503);
+    const Json& info = v.at("sensor_info");
+    EXPECT_EQ(info.at("prod_line"), "OS-1-128");
+    EXPECT_EQ(info.at("prod_sn"), std::to_string(d.serial));
+    EXPECT_EQ(info.at("initialization_id"), d.init_id);
+    const Json& bi = v.at("beam_intrinsics");
+    EXPECT_EQ(bi.at("beam_to_lidar_transform")[3].get<double>(), 15.806);
+    // Integral entries are written as integers, as the sensor does ("1", not "1.0").
+    EXPECT_TRUE(bi.at("beam_to_lidar_transform")[0].is_number_integer());
+    EXPECT_EQ(v.at("calibration_status").at("reflectivity").at("valid"), false);
 }
 
 TEST(OusterMetadata, flat_shape_has_the_key_structure_of_the_real_os2_json) {
@@ -80,22 +86,20 @@ TEST(OusterMetadata, flat_shape_has_the_key_structure_of_the_real_os2_json) {
     std::ifstream in(json_path);
     std::stringstream ss;
     ss << in.rdbuf();
-    const json::Value real = json::parse(ss.str());
+    const Json real = Json::parse(ss.str());
     const Descriptor d = load_metadata(json_path.string());
-    const json::Value ours = json::parse(metadata_json(d, {MetadataShape::Fw2Flat}));
+    const Json ours = Json::parse(metadata_json(d, {MetadataShape::Fw2Flat}));
     EXPECT_EQ(keys(ours), keys(real));
-    EXPECT_EQ(keys(*ours.find("data_format")), keys(*real.find("data_format")));
-    // Same values where the capture's descriptor defines them.
-    for (const char* k : {"pixel_shift_by_row", "column_window"}) {
-        const auto& a = ours.find("data_format")->find(k)->items;
-        const auto& b = real.find("data_format")->find(k)->items;
-        ASSERT_EQ(a.size(), b.size()) << k;
-        for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].number, b[i].number) << k << i;
-    }
-    for (const char* k : {"initialization_id", "lidar_origin_to_beam_origin_mm", "udp_port_lidar"})
-        EXPECT_EQ(ours.find(k)->number, real.find(k)->number) << k;
+    EXPECT_EQ(keys(ours.at("data_format")), keys(real.at("data_format")));
+    // Same values (and JSON number kinds) where the capture's descriptor defines them.
+    for (const char* k : {"pixel_shift_by_row", "column_window"})
+        EXPECT_EQ(ours.at("data_format").at(k), real.at("data_format").at(k)) << k;
+    for (const char* k : {"initialization_id", "lidar_origin_to_beam_origin_mm", "udp_port_lidar",
+                          "beam_altitude_angles", "beam_azimuth_angles", "imu_to_sensor_transform",
+                          "lidar_to_sensor_transform"})
+        EXPECT_EQ(ours.at(k), real.at(k)) << k;
     for (const char* k : {"prod_sn", "prod_line", "lidar_mode", "build_rev", "prod_pn"})
-        EXPECT_EQ(ours.find(k)->text, real.find(k)->text) << k;
+        EXPECT_EQ(ours.at(k), real.at(k)) << k;
 }
 
 TEST(OusterMetadata, malformed_metadata_names_the_input_and_key) {
@@ -108,7 +112,9 @@ TEST(OusterMetadata, malformed_metadata_names_the_input_and_key) {
         return std::string("no error");
     };
     EXPECT_EQ(error_of("{\"beam_altitude_angles\": [1, 2]"),
-              "ouster metadata 'm.json': (document): line 1: expected '}'");
+              "ouster metadata 'm.json': (document): line 1, column 32: syntax error while parsing "
+              "object - unexpected end of input; expected '}'");
+    EXPECT_EQ(error_of("[1, 2]"), "ouster metadata 'm.json': (document): expected an object");
     const std::string angles64 = [] {
         std::string s = "[";
         for (int i = 0; i < 64; ++i) s += (i ? ", " : "") + std::to_string(i);

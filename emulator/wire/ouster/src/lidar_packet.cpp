@@ -5,23 +5,12 @@
 #include <array>
 #include <cstring>
 
+#include <lzma.h>
+
 #include "byte_io.hpp"
 
 namespace mirage::ouster {
 namespace {
-
-// Table-driven reflected CRC (one byte per step).
-constexpr std::uint64_t kCrcPoly = 0xC96C5795D7870F42ull;
-constexpr std::array<std::uint64_t, 256> make_crc_table() {
-    std::array<std::uint64_t, 256> t{};
-    for (std::uint64_t i = 0; i < 256; ++i) {
-        std::uint64_t c = i;
-        for (int k = 0; k < 8; ++k) c = (c & 1) ? (c >> 1) ^ kCrcPoly : c >> 1;
-        t[i] = c;
-    }
-    return t;
-}
-constexpr auto kCrcTable = make_crc_table();
 
 constexpr std::uint32_t kLegacyRangeMask = (1u << 20) - 1;
 constexpr std::uint32_t kRng19RangeMask = (1u << 19) - 1;
@@ -95,9 +84,8 @@ Pixel decode_pixel(Profile profile, const std::uint8_t* p) {
 }  // namespace
 
 std::uint64_t crc64_xz(std::span<const std::uint8_t> bytes) {
-    std::uint64_t c = ~0ull;
-    for (std::uint8_t b : bytes) c = kCrcTable[(c ^ b) & 0xFFu] ^ (c >> 8);
-    return ~c;
+    // §2.5: CRC-64/XZ, which is exactly liblzma's lzma_crc64 (initial value 0 = start).
+    return lzma_crc64(bytes.data(), bytes.size(), 0);
 }
 
 const char* to_string(DecodeStatus s) {

@@ -4,84 +4,56 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
-#include "json_lite.hpp"
 #include "mirage/core/error.hpp"
 
 namespace mirage::ouster {
 namespace {
 
-std::string num(double v) {
-    if (!std::isfinite(v)) return "0";
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round trip
-    return std::string(buf, r.ptr);
-}
+// Written documents keep insertion order (the order the SDK and the sensor use); reading does not
+// care about order.
+using OJson = nlohmann::ordered_json;
+using Json = nlohmann::json;
 
-std::string quoted(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out.push_back('\\');
-        out.push_back(c);
-    }
-    return out + "\"";
+// Integral values as JSON integers ("1", not "1.0"), as the sensor writes them; everything else as
+// a double, which nlohmann dumps as the shortest round-trip decimal.
+OJson num(double v) {
+    if (!std::isfinite(v)) return 0;
+    constexpr double kExactInt = 9007199254740992.0;  // 2^53: every integer below is exact
+    if (v == std::trunc(v) && std::abs(v) < kExactInt && !(v == 0 && std::signbit(v)))
+        return static_cast<std::int64_t>(v);
+    return v;
 }
 
 template <class Seq>
-std::string list(const Seq& values) {
-    std::string out = "[";
-    bool first = true;
-    for (const auto& v : values) {
-        out += (first ? "" : ", ") + num(double(v));
-        first = false;
-    }
-    return out + "]";
+OJson list(const Seq& values) {
+    OJson out = OJson::array();
+    for (const auto& v : values) out.push_back(num(double(v)));
+    return out;
 }
-
-// Writes one object, members in insertion order, nested with 2-space indents.
-class Obj {
-  public:
-    Obj& add(const std::string& key, const std::string& raw) {
-        members_.emplace_back(key, raw);
-        return *this;
-    }
-    Obj& str(const std::string& key, const std::string& v) { return add(key, quoted(v)); }
-    Obj& number(const std::string& key, double v) { return add(key, num(v)); }
-    std::string render(int indent = 0) const {
-        const std::string pad(std::size_t(indent + 2), ' ');
-        std::string out = "{\n";
-        for (std::size_t i = 0; i < members_.size(); ++i) {
-            out += pad + quoted(members_[i].first) + ": " + members_[i].second;
-            out += i + 1 < members_.size() ? ",\n" : "\n";
-        }
-        return out + std::string(std::size_t(indent), ' ') + "}";
-    }
-
-  private:
-    std::vector<std::pair<std::string, std::string>> members_;
-};
 
 std::array<double, 16> beam_to_lidar(const Descriptor& d) {
     return {1, 0, 0, d.beam_origin_mm, 0, 1, 0, 0, 0, 0, 1, d.beam_z_mm, 0, 0, 0, 1};
 }
 
-std::string window(const Descriptor& d) {
-    return "[0, " + std::to_string(d.mode.columns - 1) + "]";
+OJson window(const Descriptor& d) { return OJson::array({0, int(d.mode.columns) - 1}); }
+
+OJson data_format(const Descriptor& d) {
+    return {
+        {"pixels_per_column", d.beams},        {"columns_per_packet", d.columns_per_packet},
+        {"columns_per_frame", d.mode.columns}, {"pixel_shift_by_row", list(d.pixel_shift_by_row())},
+        {"column_window", window(d)},          {"udp_profile_lidar", to_string(d.profile)},
+        {"udp_profile_imu", "LEGACY"}};
 }
 
-Obj data_format(const Descriptor& d) {
-    Obj f;
-    f.add("pixels_per_column", std::to_string(d.beams))
-        .add("columns_per_packet", std::to_string(d.columns_per_packet))
-        .add("columns_per_frame", std::to_string(d.mode.columns))
-        .add("pixel_shift_by_row", list(d.pixel_shift_by_row()))
-        .add("column_window", window(d))
-        .str("udp_profile_lidar", to_string(d.profile))
-        .str("udp_profile_imu", "LEGACY");
-    return f;
+// Strings come from user configuration (firmware, udp_dest): replace invalid UTF-8 rather than
+// let dump() throw.
+std::string render(const OJson& root) {
+    return root.dump(2, ' ', false, OJson::error_handler_t::replace) + "\n";
 }
 
 }  // namespace
@@ -90,82 +62,72 @@ std::string metadata_json(const Descriptor& d, const MetadataOptions& o) {
     const std::string sn = std::to_string(d.serial);
     const std::string image = "ousteros-image-prod-mirage-" + d.firmware;
     if (o.shape == MetadataShape::Fw2Flat) {
-        Obj root;
-        root.str("base_pn", "")
-            .str("base_sn", "")
-            .add("beam_altitude_angles", list(d.altitude_deg))
-            .add("beam_azimuth_angles", list(d.azimuth_deg))
-            .str("build_date", "2024-01-01T00:00:00Z")
-            .str("build_rev", d.firmware)
-            .str("client_version", "mirage")
-            .add("data_format", data_format(d).render(2))
-            .str("hostname", "")
-            .str("image_rev", image)
-            .add("imu_to_sensor_transform", list(d.imu_to_sensor))
-            .number("initialization_id", d.init_id)
-            .number("json_calibration_version", 4)
-            .str("lidar_mode", to_string(d.mode))
-            .number("lidar_origin_to_beam_origin_mm", d.beam_origin_mm)
-            .add("lidar_to_sensor_transform", list(d.lidar_to_sensor))
-            .str("prod_line", d.prod_line())
-            .str("prod_pn", d.part_number)
-            .str("prod_sn", sn)
-            .str("proto_rev", "")
-            .str("status", "RUNNING")
-            .number("udp_port_imu", d.udp_port_imu)
-            .number("udp_port_lidar", d.udp_port_lidar);
-        return root.render() + "\n";
+        return render({{"base_pn", ""},
+                       {"base_sn", ""},
+                       {"beam_altitude_angles", list(d.altitude_deg)},
+                       {"beam_azimuth_angles", list(d.azimuth_deg)},
+                       {"build_date", "2024-01-01T00:00:00Z"},
+                       {"build_rev", d.firmware},
+                       {"client_version", "mirage"},
+                       {"data_format", data_format(d)},
+                       {"hostname", ""},
+                       {"image_rev", image},
+                       {"imu_to_sensor_transform", list(d.imu_to_sensor)},
+                       {"initialization_id", d.init_id},
+                       {"json_calibration_version", 4},
+                       {"lidar_mode", to_string(d.mode)},
+                       {"lidar_origin_to_beam_origin_mm", num(d.beam_origin_mm)},
+                       {"lidar_to_sensor_transform", list(d.lidar_to_sensor)},
+                       {"prod_line", d.prod_line()},
+                       {"prod_pn", d.part_number},
+                       {"prod_sn", sn},
+                       {"proto_rev", ""},
+                       {"status", "RUNNING"},
+                       {"udp_port_imu", d.udp_port_imu},
+                       {"udp_port_lidar", d.udp_port_lidar}});
     }
-    Obj sensor_info;
-    sensor_info.str("prod_line", d.prod_line())
-        .str("prod_pn", d.part_number)
-        .str("prod_sn", sn)
-        .str("build_rev", d.firmware)
-        .str("build_date", "2024-01-01T00:00:00Z")
-        .str("image_rev", image)
-        .number("initialization_id", d.init_id)
-        .str("status", "RUNNING")
-        .str("proto_rev", "")
-        .str("base_pn", "")
-        .str("base_sn", "");
-    Obj beams;
-    beams.add("beam_altitude_angles", list(d.altitude_deg))
-        .add("beam_azimuth_angles", list(d.azimuth_deg))
-        .number("lidar_origin_to_beam_origin_mm", d.beam_origin_mm)
-        .add("beam_to_lidar_transform", list(beam_to_lidar(d)));
-    Obj format = data_format(d);
-    format.number("fps", d.mode.hz);
-    Obj config;
-    config.str("lidar_mode", to_string(d.mode))
-        .str("udp_dest", o.udp_dest)
-        .number("udp_port_lidar", d.udp_port_lidar)
-        .number("udp_port_imu", d.udp_port_imu)
-        .str("udp_profile_lidar", to_string(d.profile))
-        .str("udp_profile_imu", "LEGACY")
-        .number("columns_per_packet", d.columns_per_packet)
-        .add("azimuth_window", "[0, 360000]")
-        .str("timestamp_mode", to_string(o.timestamp_mode))
-        .str("operating_mode", "NORMAL")
-        .str("multipurpose_io_mode", "OFF")
-        .str("sync_pulse_in_polarity", "ACTIVE_HIGH")
-        .str("nmea_in_polarity", "ACTIVE_HIGH")
-        .str("nmea_baud_rate", "BAUD_9600")
-        .number("signal_multiplier", 1)
-        .str("phase_lock_enable", "false");
-    Obj imu, lidar, refl, cal;
-    imu.add("imu_to_sensor_transform", list(d.imu_to_sensor));
-    lidar.add("lidar_to_sensor_transform", list(d.lidar_to_sensor));
-    refl.add("valid", "false").str("timestamp", "");
-    cal.add("reflectivity", refl.render(4));
-    Obj root;
-    root.add("sensor_info", sensor_info.render(2))
-        .add("beam_intrinsics", beams.render(2))
-        .add("lidar_data_format", format.render(2))
-        .add("config_params", config.render(2))
-        .add("imu_intrinsics", imu.render(2))
-        .add("lidar_intrinsics", lidar.render(2))
-        .add("calibration_status", cal.render(2));
-    return root.render() + "\n";
+    OJson format = data_format(d);
+    format["fps"] = int(d.mode.hz);
+    const OJson root = {
+        {"sensor_info",
+         {{"prod_line", d.prod_line()},
+          {"prod_pn", d.part_number},
+          {"prod_sn", sn},
+          {"build_rev", d.firmware},
+          {"build_date", "2024-01-01T00:00:00Z"},
+          {"image_rev", image},
+          {"initialization_id", d.init_id},
+          {"status", "RUNNING"},
+          {"proto_rev", ""},
+          {"base_pn", ""},
+          {"base_sn", ""}}},
+        {"beam_intrinsics",
+         {{"beam_altitude_angles", list(d.altitude_deg)},
+          {"beam_azimuth_angles", list(d.azimuth_deg)},
+          {"lidar_origin_to_beam_origin_mm", num(d.beam_origin_mm)},
+          {"beam_to_lidar_transform", list(beam_to_lidar(d))}}},
+        {"lidar_data_format", format},
+        {"config_params",
+         {{"lidar_mode", to_string(d.mode)},
+          {"udp_dest", o.udp_dest},
+          {"udp_port_lidar", d.udp_port_lidar},
+          {"udp_port_imu", d.udp_port_imu},
+          {"udp_profile_lidar", to_string(d.profile)},
+          {"udp_profile_imu", "LEGACY"},
+          {"columns_per_packet", d.columns_per_packet},
+          {"azimuth_window", OJson::array({0, 360000})},
+          {"timestamp_mode", to_string(o.timestamp_mode)},
+          {"operating_mode", "NORMAL"},
+          {"multipurpose_io_mode", "OFF"},
+          {"sync_pulse_in_polarity", "ACTIVE_HIGH"},
+          {"nmea_in_polarity", "ACTIVE_HIGH"},
+          {"nmea_baud_rate", "BAUD_9600"},
+          {"signal_multiplier", 1},
+          {"phase_lock_enable", "false"}}},
+        {"imu_intrinsics", {{"imu_to_sensor_transform", list(d.imu_to_sensor)}}},
+        {"lidar_intrinsics", {{"lidar_to_sensor_transform", list(d.lidar_to_sensor)}}},
+        {"calibration_status", {{"reflectivity", {{"valid", false}, {"timestamp", ""}}}}}};
+    return render(root);
 }
 
 namespace {
@@ -176,24 +138,27 @@ class Reader {
     [[noreturn]] void fail(const std::string& key, const std::string& what) const {
         throw ConfigError("ouster metadata '" + source_ + "': " + key + ": " + what);
     }
-    const json::Value* get(const json::Value* obj, const char* key) const {
-        return obj && obj->kind == json::Value::Kind::Object ? obj->find(key) : nullptr;
+    const Json* get(const Json* obj, const char* key) const {
+        if (!obj || !obj->is_object()) return nullptr;
+        const auto it = obj->find(key);
+        return it == obj->end() ? nullptr : &*it;
     }
-    double number(const json::Value* v, const std::string& key) const {
-        if (!v || v->kind != json::Value::Kind::Number) fail(key, "expected a number");
-        return v->number;
+    double number(const Json* v, const std::string& key) const {
+        if (!v || !v->is_number()) fail(key, "expected a number");
+        return v->get<double>();
     }
-    std::string text(const json::Value* v, const std::string& key) const {
-        if (!v || v->kind != json::Value::Kind::String) fail(key, "expected a string");
-        return v->text;
+    std::string text(const Json* v, const std::string& key) const {
+        if (!v || !v->is_string()) fail(key, "expected a string");
+        return v->get<std::string>();
     }
-    std::vector<double> numbers(const json::Value* v, const std::string& key) const {
-        if (!v || v->kind != json::Value::Kind::Array) fail(key, "expected an array of numbers");
+    std::vector<double> numbers(const Json* v, const std::string& key) const {
+        if (!v || !v->is_array()) fail(key, "expected an array of numbers");
         std::vector<double> out;
-        for (const auto& x : v->items) out.push_back(number(&x, key));
+        out.reserve(v->size());
+        for (const auto& x : *v) out.push_back(number(&x, key));
         return out;
     }
-    std::array<double, 16> matrix(const json::Value* v, const std::string& key) const {
+    std::array<double, 16> matrix(const Json* v, const std::string& key) const {
         const auto n = numbers(v, key);
         if (n.size() != 16) fail(key, "expected 16 numbers");
         std::array<double, 16> m{};
@@ -205,22 +170,25 @@ class Reader {
     std::string source_;
 };
 
-}  // namespace
+// nlohmann's what() is "[json.exception.parse_error.101] parse error at line 1, column 5: ...";
+// keep "line 1, column 5: ...".
+std::string problem(const Json::exception& e) {
+    std::string what = e.what();
+    if (const auto p = what.find("] "); what.rfind("[json.exception.", 0) == 0 && p != what.npos)
+        what.erase(0, p + 2);
+    for (const std::string prefix : {"parse error at ", "parse error: "})
+        if (what.rfind(prefix, 0) == 0) what.erase(0, prefix.size());
+    return what;
+}
 
-Descriptor descriptor_from_metadata(const std::string& text, const std::string& source) {
-    const Reader rd(source);
-    json::Value root;
-    try {
-        root = json::parse(text);
-    } catch (const std::exception& e) {
-        rd.fail("(document)", e.what());
-    }
-    if (root.kind != json::Value::Kind::Object) rd.fail("(document)", "expected an object");
-    const bool nested = root.find("sensor_info") != nullptr;
-    const json::Value* info = nested ? root.find("sensor_info") : &root;
-    const json::Value* beams = nested ? root.find("beam_intrinsics") : &root;
-    const json::Value* format = nested ? root.find("lidar_data_format") : root.find("data_format");
-    const json::Value* config = nested ? root.find("config_params") : &root;
+Descriptor read_descriptor(const Json& root, const Reader& rd) {
+    if (!root.is_object()) rd.fail("(document)", "expected an object");
+    const Json* info = rd.get(&root, "sensor_info");
+    const bool nested = info != nullptr;
+    if (!nested) info = &root;
+    const Json* beams = nested ? rd.get(&root, "beam_intrinsics") : &root;
+    const Json* format = rd.get(&root, nested ? "lidar_data_format" : "data_format");
+    const Json* config = nested ? rd.get(&root, "config_params") : &root;
 
     Descriptor d;
     const std::string prefix = nested ? "beam_intrinsics." : "";
@@ -259,13 +227,11 @@ Descriptor descriptor_from_metadata(const std::string& text, const std::string& 
         d.beam_origin_mm = m[3];
         d.beam_z_mm = m[11];
     }
-    const json::Value* lidar_t =
-        nested ? rd.get(root.find("lidar_intrinsics"), "lidar_to_sensor_transform")
-               : root.find("lidar_to_sensor_transform");
+    const Json* lidar_t =
+        rd.get(nested ? rd.get(&root, "lidar_intrinsics") : &root, "lidar_to_sensor_transform");
     if (lidar_t) d.lidar_to_sensor = rd.matrix(lidar_t, "lidar_to_sensor_transform");
-    const json::Value* imu_t = nested
-                                   ? rd.get(root.find("imu_intrinsics"), "imu_to_sensor_transform")
-                                   : root.find("imu_to_sensor_transform");
+    const Json* imu_t =
+        rd.get(nested ? rd.get(&root, "imu_intrinsics") : &root, "imu_to_sensor_transform");
     if (imu_t) d.imu_to_sensor = rd.matrix(imu_t, "imu_to_sensor_transform");
 
     d.profile = Profile::Legacy;
@@ -293,11 +259,17 @@ Descriptor descriptor_from_metadata(const std::string& text, const std::string& 
     d.serial = 0;
     d.init_id = 0;
     if (const auto* v = rd.get(info, "prod_sn")) {
-        const std::string s =
-            v->kind == json::Value::Kind::String ? v->text : num(rd.number(v, "prod_sn"));
         std::uint64_t sn = 0;
-        const auto r = std::from_chars(s.data(), s.data() + s.size(), sn);
-        if (r.ec != std::errc() || r.ptr != s.data() + s.size()) rd.fail("prod_sn", "not a number");
+        if (v->is_number_unsigned()) {
+            sn = v->get<std::uint64_t>();
+        } else {
+            // A number-typed serial (negative or fractional here) goes through its decimal form.
+            const std::string s =
+                v->is_string() ? v->get<std::string>() : OJson(num(rd.number(v, "prod_sn"))).dump();
+            const auto r = std::from_chars(s.data(), s.data() + s.size(), sn);
+            if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+                rd.fail("prod_sn", "not a number");
+        }
         d.serial = sn;
     }
     if (const auto* v = rd.get(info, "initialization_id"))
@@ -313,6 +285,23 @@ Descriptor descriptor_from_metadata(const std::string& text, const std::string& 
     if (const auto* v = rd.get(config, "udp_port_imu"))
         d.udp_port_imu = static_cast<std::uint16_t>(rd.number(v, "udp_port_imu"));
     return d;
+}
+
+}  // namespace
+
+Descriptor descriptor_from_metadata(const std::string& text, const std::string& source) {
+    const Reader rd(source);
+    Json root;
+    try {
+        root = Json::parse(text);
+    } catch (const Json::exception& e) {
+        rd.fail("(document)", problem(e));
+    }
+    try {
+        return read_descriptor(root, rd);
+    } catch (const Json::exception& e) {  // the typed reads above should make this unreachable
+        rd.fail("(document)", problem(e));
+    }
 }
 
 Descriptor load_metadata(const std::string& path) {

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: Apache-2.0
+// The assertions shared by the pcap and live PCL tests: every point on the room's planes, and
+// every full revolution holding the model's number of firings.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "pcl_harness.hpp"
+#include "room_check.hpp"
+
+namespace mirage::test {
+
+// `mirage emulate` arguments common to both paths.
+inline std::vector<std::string> emulate_args(const SensorSetup& s, const std::string& sensor,
+                                             const std::string& scene, bool noise) {
+    std::vector<std::string> a = {
+        "emulate",    "--sensor", sensor,
+        "--scene",    scene,      "--pose",
+        s.pose_arg(), "--rpm",    std::to_string(static_cast<int>(s.rpm))};
+    if (noise) {
+        a.insert(a.end(), {"--seed", "1"});
+    } else {
+        a.push_back("--no-noise");
+    }
+    return a;
+}
+
+struct SweepSummary {
+    std::size_t full = 0;  // sweeps after PCL's first (which starts mid-turn)
+    double mean_points = 0;
+    GeometryStats geometry;
+};
+
+// PCL emits a sweep when the azimuth wraps; the first one starts wherever the stream did and the
+// trailing partial one is never emitted, so revolutions 2..n are full. A full revolution is a
+// whole number of firing sequences (PCL splits sweeps between sequences) and holds N = 60 s /
+// (rpm · period) of them (VLP-16 at 600 rpm: 1808.45, so 1808 or 1809). Block azimuths are
+// rounded to 0.01° on the wire, which can move a wrap by one sequence when the rotor is within
+// 0.005° of 360°: hence |count/L − N| < 2 rather than < 1.
+inline SweepSummary expect_room_sweeps(const std::vector<SweepCollector::Cloud::ConstPtr>& sweeps,
+                                       const SensorSetup& setup, const RoomChecker& checker,
+                                       std::size_t min_full, const char* label) {
+    SweepSummary out;
+    const auto lasers =
+        static_cast<std::size_t>(setup.descriptor().lasers * setup.points_per_firing);
+    const double n_seq = setup.sequences_per_rev();
+    EXPECT_GE(sweeps.size(), min_full + 1) << label;
+    std::string counts;
+    for (std::size_t i = 0; i < sweeps.size(); ++i) {
+        const GeometryStats g = checker.check(*sweeps[i]);
+        out.geometry.merge(g);
+        counts += (i ? " " : "") + std::to_string(sweeps[i]->size());
+        if (i == 0) continue;
+        ++out.full;
+        const std::size_t n = sweeps[i]->size();
+        out.mean_points += static_cast<double>(n);
+        EXPECT_EQ(n % lasers, 0u) << label << " sweep " << i;
+        EXPECT_LT(std::abs(static_cast<double>(n / lasers) - n_seq), 2.0)
+            << label << " sweep " << i << ": " << n << " points, model "
+            << n_seq * static_cast<double>(lasers);
+    }
+    if (out.full) out.mean_points /= static_cast<double>(out.full);
+    const auto& g = out.geometry;
+    EXPECT_GT(g.points, 0u) << label;
+    EXPECT_EQ(g.outside_tolerance, 0u)
+        << label << ": worst " << g.worst_m << " m, ratio " << g.worst_ratio;
+    EXPECT_LT(g.worst_elevation_mismatch_deg, 0.01) << label;
+    std::printf(
+        "[%s] sweeps %zu (points: %s); full revolutions %zu, mean %.1f points/rev "
+        "(model %.1f); points %zu; distance to plane: worst %.4f m (%.2f of tolerance), rms "
+        "%.4f m; raw PCL points (no firing-delay azimuth) worst %.4f m; elevation mismatch "
+        "%.5f deg\n",
+        label, sweeps.size(), counts.c_str(), out.full, out.mean_points,
+        n_seq * static_cast<double>(lasers), g.points, g.worst_m, g.worst_ratio, g.rms_m,
+        g.worst_raw_m, g.worst_elevation_mismatch_deg);
+    return out;
+}
+
+}  // namespace mirage::test
