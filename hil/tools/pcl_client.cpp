@@ -4,6 +4,8 @@
 // Issue 3 item 6; PCL's decoding rules and quirks: wire-formats.md §5.1.
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <pcl/io/hdl_grabber.h>
+#include <pcl/io/vlp_grabber.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -13,10 +15,10 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <functional>
 #include <memory>
 #include <mutex>
-#include <pcl/io/hdl_grabber.h>
-#include <pcl/io/vlp_grabber.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -173,8 +175,8 @@ int main(int argc, char** argv) {
     }
 
     const auto t0 = Clock::now();
-    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(
-                                   std::chrono::duration<double>(seconds));
+    const auto deadline =
+        t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
     SweepLog log(quiet);
     std::uint64_t packets = 0, other_datagrams = 0;
     std::size_t expected_sweeps = 0;  // pcap only
@@ -211,9 +213,8 @@ int main(int argc, char** argv) {
         [&log](const pcl::PointCloud<pcl::PointXYZI>::ConstPtr& c) { log.on_sweep(c); };
     grabber->registerCallback(cb);
     std::printf("mirage-pcl-client: %s on %s\n", grabber->getName().c_str(),
-                pcap_path.empty()
-                    ? ("udp " + address + ":" + std::to_string(port)).c_str()
-                    : ("pcap " + pcap_path).c_str());
+                pcap_path.empty() ? ("udp " + address + ":" + std::to_string(port)).c_str()
+                                  : ("pcap " + pcap_path).c_str());
     std::fflush(stdout);
     grabber->start();
 
@@ -222,8 +223,8 @@ int main(int argc, char** argv) {
         std::vector<std::uint8_t> buf(65536);
         while (Clock::now() < deadline) {
             pollfd p{listen_fd, POLLIN, 0};
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                deadline - Clock::now());
+            const auto left =
+                std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
             if (::poll(&p, 1, static_cast<int>(std::max<std::int64_t>(left.count(), 0))) <= 0)
                 continue;
             const ssize_t n = ::recv(listen_fd, buf.data(), buf.size(), 0);
