@@ -1,6 +1,9 @@
 # Warnings and sanitizers for Mirage's own targets only (never global flags).
 function(mirage_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wconversion -Wimplicit-fallthrough)
+  if(MIRAGE_NATIVE)
+    target_compile_options(${target} PRIVATE -march=native)
+  endif()
   if(MIRAGE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

@@ -272,30 +272,50 @@ class PulseShader {
         };
         Return returns[8];
         int count = 0;
-        // Insertion sort: a handful of sub-rays, usually already nearly in order.
-        for (std::size_t a = 1; a < contrib.size(); ++a) {
-            const Contribution c = contrib[a];
-            std::size_t b = a;
-            for (; b > 0 && (contrib[b - 1].range_m > c.range_m ||
-                             (contrib[b - 1].range_m == c.range_m && contrib[b - 1].sub > c.sub));
-                 --b)
-                contrib[b] = contrib[b - 1];
-            contrib[b] = c;
-        }
-        double last_range = -1e300;
+        // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can split
+        // them and one return takes them all, in sub-ray order, without sorting.
+        double lo = contrib.front().range_m, hi = lo;
         for (const Contribution& c : contrib) {
-            if (count == 0 || c.range_m - last_range > separation_m_) {
-                if (count == 8) break;
-                ++count;
+            lo = std::min(lo, c.range_m);
+            hi = std::max(hi, c.range_m);
+        }
+        if (hi - lo <= separation_m_) {
+            Return& r = returns[0];
+            count = 1;
+            for (const Contribution& c : contrib) {
+                r.range_m += c.range_m * c.power_w;
+                r.power_w += c.power_w;
+                if (c.power_w > r.best_power) {
+                    r.best_power = c.power_w;
+                    r.best_sub = c.sub;
+                }
             }
-            Return& r = returns[count - 1];
-            r.range_m += c.range_m * c.power_w;
-            r.power_w += c.power_w;
-            if (c.power_w > r.best_power) {
-                r.best_power = c.power_w;
-                r.best_sub = c.sub;
+        } else {
+            // Insertion sort by range: a handful of sub-rays.
+            for (std::size_t a = 1; a < contrib.size(); ++a) {
+                const Contribution c = contrib[a];
+                std::size_t b = a;
+                for (; b > 0 && (contrib[b - 1].range_m > c.range_m ||
+                                 (contrib[b - 1].range_m == c.range_m && contrib[b - 1].sub > c.sub));
+                     --b)
+                    contrib[b] = contrib[b - 1];
+                contrib[b] = c;
             }
-            last_range = c.range_m;
+            double last_range = -1e300;
+            for (const Contribution& c : contrib) {
+                if (count == 0 || c.range_m - last_range > separation_m_) {
+                    if (count == 8) break;
+                    ++count;
+                }
+                Return& r = returns[count - 1];
+                r.range_m += c.range_m * c.power_w;
+                r.power_w += c.power_w;
+                if (c.power_w > r.best_power) {
+                    r.best_power = c.power_w;
+                    r.best_sub = c.sub;
+                }
+                last_range = c.range_m;
+            }
         }
         for (int k = 0; k < count; ++k) {
             Return& r = returns[k];
@@ -354,7 +374,7 @@ class PulseShader {
                 d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
             }
             const Eigen::Vector3d p = g.origin[i] + range * d;
-            PointRecord pt;
+            PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes
             pt.x = p.x();
             pt.y = p.y();
             pt.z = p.z();
@@ -373,7 +393,6 @@ class PulseShader {
             pt.classification = m.classification;
             pt.scan_direction = spec.scan_direction;
             pt.edge_of_flight_line = spec.edge_of_flight_line;
-            out.points.push_back(pt);
         }
         const std::size_t emitted = out.points.size() - first_point;
         for (std::size_t k = 0; k < emitted; ++k) {
@@ -425,8 +444,17 @@ std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor,
                                core::GpsTime start, std::uint64_t first, std::size_t n) {
     ChunkBuilder builder(sensor, trajectory, mount, start);
     ChunkGeometry g;
-    builder.build(first, n, g);
-    return std::move(g.rays);
+    std::vector<Ray> rays;
+    const std::size_t batch = trace_batch_pulses(sensor);
+    for (std::size_t done = 0; done < n; done += batch) {
+        builder.build(first + done, std::min(batch, n - done), g);
+        rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+    }
+    return rays;
+}
+
+std::size_t trace_batch_pulses(const sensor::SensorModel& sensor) {
+    return chunk_pulses(sensor, kTraceBatchPulses);
 }
 
 RenderStats render(const scene::Scene& scene, const Renderer& renderer,
@@ -437,6 +465,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     const auto t0 = std::chrono::steady_clock::now();
     const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
     const std::size_t chunk = chunk_pulses(sensor, opt.chunk_pulses);
+    const std::size_t batch = trace_batch_pulses(sensor);
     const std::uint64_t chunks = (total + chunk - 1) / chunk;
     int threads = opt.threads > 0
                       ? opt.threads
@@ -490,16 +519,21 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                 const std::uint64_t first = c * chunk;
                 const std::size_t n =
                     static_cast<std::size_t>(std::min<std::uint64_t>(chunk, total - first));
-                const double c0 = thread_cpu_s();
-                builder.build(first, n, g);
-                hits.resize(g.rays.size());
-                const double c1 = thread_cpu_s();
-                renderer.intersect(g.rays, hits);
-                const double c2 = thread_cpu_s();
-                shader.shade(first, g, hits, builder.subrays(), *result);
-                result->stats.cpu_rays_s = c1 - c0;
-                result->stats.cpu_trace_s = c2 - c1;
-                result->stats.cpu_shade_s = thread_cpu_s() - c2;
+                // Traced in batches that keep rays and hits in cache; the chunk (the unit of
+                // hand-over between threads) spans several, so threads wake less often.
+                for (std::size_t done = 0; done < n; done += batch) {
+                    const std::size_t m = std::min(batch, n - done);
+                    const double c0 = thread_cpu_s();
+                    builder.build(first + done, m, g);
+                    hits.resize(g.rays.size());
+                    const double c1 = thread_cpu_s();
+                    renderer.intersect(g.rays, hits);
+                    const double c2 = thread_cpu_s();
+                    shader.shade(first + done, g, hits, builder.subrays(), *result);
+                    result->stats.cpu_rays_s += c1 - c0;
+                    result->stats.cpu_trace_s += c2 - c1;
+                    result->stats.cpu_shade_s += thread_cpu_s() - c2;
+                }
             } catch (...) {
                 std::lock_guard lk(mu);
                 if (!error) error = std::current_exception();

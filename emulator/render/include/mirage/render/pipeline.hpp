@@ -33,7 +33,7 @@ struct RenderOptions {
     core::GpsTime start{};  // time of pulse 0
     core::Nanos duration{std::chrono::seconds(1)};
     bool noise = true;                // range noise, jitter, detector noise
-    std::size_t chunk_pulses = 2048;  // work unit; results are independent of it
+    std::size_t chunk_pulses = 8192;  // work unit handed between threads; results do not depend on it
     physics::IntensityCalibration intensity;
 };
 
@@ -71,6 +71,11 @@ namespace mirage::render {
 // Pulses per work unit: `requested` rounded down to whole firing groups (at least one), so the
 // ray regrouping never splits a column. The benchmark's ceiling uses the same chunks.
 std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requested);
+
+// Pulses traced at once (whole firing groups): rays and hits of one batch stay in cache. A chunk
+// is traced in batches of this size from its first pulse.
+inline constexpr std::size_t kTraceBatchPulses = 2048;
+std::size_t trace_batch_pulses(const sensor::SensorModel& sensor);
 
 // The rays the pipeline traces for pulses [first, first + n), in its tracing order (one channel
 // over neighbouring firing groups, sub-rays adjacent). Used by the benchmark to time the bare
