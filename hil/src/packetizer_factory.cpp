@@ -4,8 +4,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
+#include <memory>
 
 #include "mirage/core/error.hpp"
+#include "mirage/core/time.hpp"
 #include "mirage/ouster/descriptor.hpp"
 #include "mirage/ouster/imu.hpp"
 #include "mirage/ouster/metadata.hpp"
@@ -28,12 +31,22 @@ bool is_ouster(const std::string& name) { return name.rfind("os", 0) == 0; }
 }
 
 // Position of the sensor for the Velodyne $GPRMC: the trajectory through the scene's georef.
+// A receiver reports one fix per UTC second, so the fix is computed once per second (a projected
+// to geodetic conversion costs tens of µs; position packets come every few ms).
 velodyne::PositionFn position_fn(const Job& job) {
     const scene::Scene* s = job.scene.get();
     const core::Trajectory* traj = &job.trajectory;
-    return [s, traj](core::GpsTime t) {
+    struct Cache {
+        std::int64_t second = std::numeric_limits<std::int64_t>::min();
+        velodyne::GeoFix fix;
+    };
+    auto cache = std::make_shared<Cache>();
+    return [s, traj, cache](core::GpsTime t) {
+        const std::int64_t second = core::unix_ns_from_gps(t) / 1'000'000'000;
+        if (second == cache->second) return cache->fix;
         velodyne::GeoFix fix;
         try {
+            t = core::gps_from_unix_ns(second * 1'000'000'000);  // the fix's own instant
             const Eigen::Vector3d p = traj->at(t).position;
             const Eigen::Vector3d llh = s->georef.geodetic_from_local(p);
             fix.lat_deg = llh.x();
@@ -48,6 +61,8 @@ velodyne::PositionFn position_fn(const Job& job) {
         } catch (const Error&) {
             fix.valid = false;  // no CRS: the receiver reports "no fix"
         }
+        cache->second = second;
+        cache->fix = fix;
         return fix;
     };
 }

@@ -90,8 +90,10 @@ inline LatenessSummary summarize(const std::vector<std::int64_t>& series) {
     s.count = series.size();
     if (series.empty()) return s;
     const std::size_t tenth = std::max<std::size_t>(1, series.size() / 10);
-    const std::int64_t head = *std::min_element(series.begin(), series.begin() + static_cast<std::ptrdiff_t>(tenth));
-    const std::int64_t tail = *std::min_element(series.end() - static_cast<std::ptrdiff_t>(tenth), series.end());
+    const std::int64_t head =
+        *std::min_element(series.begin(), series.begin() + static_cast<std::ptrdiff_t>(tenth));
+    const std::int64_t tail =
+        *std::min_element(series.end() - static_cast<std::ptrdiff_t>(tenth), series.end());
     s.drift = tail - head;
     std::vector<std::int64_t> v = series;
     std::sort(v.begin(), v.end());

@@ -11,7 +11,8 @@ namespace mirage::test {
 namespace {
 
 TEST(Cli, every_subcommand_has_help) {
-    for (const char* sub : {"render", "demo", "bench", "las-info", "sensors", "emulate", "stream-bench"}) {
+    for (const char* sub :
+         {"render", "demo", "bench", "las-info", "sensors", "emulate", "stream-bench"}) {
         const auto r = run_mirage(std::string(sub) + " --help");
         EXPECT_EQ(r.exit_code, 0) << sub;
         EXPECT_NE(r.output.find("Usage"), std::string::npos) << sub << ": " << r.output;
