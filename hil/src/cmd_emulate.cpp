@@ -70,6 +70,7 @@ void register_emulate(CLI::App& app) {
         std::string pcap;
         std::string calibration_out;
         bool realtime = false, afap = false, no_status = false;
+        int rt_priority = 0;
     };
     auto o = std::make_shared<Opts>();
     add_job_options(*cmd, o->job);
@@ -103,6 +104,10 @@ void register_emulate(CLI::App& app) {
     cmd->add_flag("--as-fast-as-possible", o->afap, "Do not pace (pcap generation, benchmarks)")
         ->excludes(rt);
     cmd->add_flag("--no-status", o->no_status, "No status line on stderr");
+    cmd->add_option("--rt-priority", o->rt_priority,
+                    "Send from a SCHED_FIFO thread at this priority (1-99; needs CAP_SYS_NICE): "
+                    "tighter pacing on a busy machine")
+        ->check(CLI::Range(0, 99));
     cmd->callback([o] {
         JobInputs in = o->job;
         if (!o->pose.empty()) {
@@ -126,6 +131,7 @@ void register_emulate(CLI::App& app) {
         PacketOutputOptions po;
         po.realtime = !o->afap;
         po.status_line = !o->no_status;
+        po.fifo_priority = o->rt_priority;
         po.pcap_path = o->pcap;
         udp::StreamPorts ports;
         ports.data = o->data_port ? o->data_port : (ouster ? 7502 : 2368);

@@ -378,14 +378,16 @@ struct StreamsResult {
     double wall_s = 0, cpu_s = 0;
     int render_threads = 1;
     std::size_t chunk_pulses = 0;
+    int fifo_priority = 0;
     std::string trajectory;
     double cpu_percent() const { return wall_s > 0 ? 100.0 * cpu_s / wall_s : 0; }
 };
 
 StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, double seconds_scene,
                           const std::string& seconds, const std::string& trajectory,
-                          int render_threads, std::size_t chunk_pulses) {
+                          int render_threads, std::size_t chunk_pulses, int fifo_priority) {
     StreamsResult res;
+    res.fifo_priority = fifo_priority;
     res.render_threads = render_threads;
     res.chunk_pulses = chunk_pulses;
     res.trajectory = trajectory;
@@ -408,6 +410,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         PacketOutputOptions po;
         po.realtime = true;
         po.status_line = false;
+        po.fifo_priority = fifo_priority;  // as `mirage emulate --rt-priority`
         udp::SenderConfig sc;
         sc.host = "127.0.0.1";
         // Data and position / IMU to the same receiver; the schedule ring tells them apart.
@@ -522,12 +525,15 @@ std::string markdown(const Report& r) {
             e.emulate_packets_per_s, e.emulate_headroom());
     o << "\nThe encoder alone uses a fixed position fix (Velodyne) and the static pose (Ouster "
          "IMU); \"as emulate builds it\" goes through make_wire, whose Velodyne position packets "
-         "take the fix from the trajectory through Georef::geodetic_from_local.\n";
+         "take the fix from the trajectory through Georef::geodetic_from_local (once per UTC "
+         "second).\n";
     const auto& s = r.streams;
     o << fmt::format(
         "\n## Three streams at once in real time ({} s, trajectory {}, {} render worker "
-        "thread(s) per stream, {} pulses per chunk)\n\n",
-        r.seconds, s.trajectory, s.render_threads, s.chunk_pulses);
+        "thread(s) per stream, {} pulses per chunk, sending threads {})\n\n",
+        r.seconds, s.trajectory, s.render_threads, s.chunk_pulses,
+        s.fifo_priority > 0 ? fmt::format("SCHED_FIFO {}", s.fifo_priority)
+                            : std::string("SCHED_OTHER"));
     o << fmt::format(
         "CPU used (getrusage user+sys / wall): {:.1f} % of one core ({:.2f} s CPU in "
         "{:.2f} s wall, {} cores).\n\n",
@@ -711,7 +717,8 @@ void register_stream_bench(CLI::App& app) {
                     "Pulses per render work unit (the pipeline's lead over the schedule)")
         ->capture_default_str();
     cmd->add_option("--fifo-priority", o->fifo_priority,
-                    "SCHED_FIFO priority of the second pacing probe run (0: skip it)")
+                    "SCHED_FIFO priority of the streams' sending threads (as emulate "
+                    "--rt-priority) and of the second pacing probe run (0: neither)")
         ->capture_default_str();
     cmd->add_flag("--quick", o->quick, "Short run for CI: 3 s streams, short encoder runs");
     cmd->callback([o] {
@@ -739,7 +746,7 @@ void register_stream_bench(CLI::App& app) {
                     rep.seconds.c_str());
         std::fflush(stdout);
         rep.streams = run_streams(scene, rep.scene_seconds, rep.seconds, o->trajectory,
-                                  o->render_threads, o->chunk_pulses);
+                                  o->render_threads, o->chunk_pulses, o->fifo_priority);
 
         // 3. Pacing probe, same duration.
         std::printf("pacing probe at 10 kHz...\n");

@@ -7,20 +7,21 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/udp/pacing_probe.hpp"
 
 namespace mirage::hil {
 namespace {
 
-udp::PacerConfig pacer_config(bool realtime) {
+udp::PacerConfig pacer_config(const PacketOutputOptions& o) {
     udp::PacerConfig c;
-    c.as_fast_as_possible = !realtime;
+    c.as_fast_as_possible = !o.realtime;
     return c;
 }
 
 }  // namespace
 
 PacketOutput::PacketOutput(PacketOutputOptions options)
-    : opt_(std::move(options)), pacer_(pacer_config(opt_.realtime)) {
+    : opt_(std::move(options)), pacer_(pacer_config(opt_)) {
     if (opt_.udp) {
         sender_ = std::make_unique<udp::UdpSender>(*opt_.udp);
         pcap_dst_.ip = sender_->destination();
@@ -37,6 +38,15 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
     if (!started_) {
         started_ = true;
         first_ = last_status_ = now;
+        if (opt_.realtime && opt_.fifo_priority > 0) {
+            if (udp::set_realtime_priority(opt_.fifo_priority, fifo_error_)) {
+                totals_.fifo = true;
+            } else {
+                std::fprintf(stderr,
+                             "packet output: SCHED_FIFO %d not set (%s); pacing without it\n",
+                             opt_.fifo_priority, fifo_error_.c_str());
+            }
+        }
     }
     if (opt_.realtime) pacer_.wait(packet.time);
     if (sender_) {
@@ -88,6 +98,7 @@ PacketOutputTotals PacketOutput::finish() {
     totals_.worst_late = st.worst();
     totals_.p50 = st.percentile(0.50);
     totals_.p99 = st.percentile(0.99);
+    totals_.fifo_error = fifo_error_;
     totals_.seconds =
         started_ ? std::chrono::duration<double>(std::chrono::steady_clock::now() - first_).count()
                  : 0.0;

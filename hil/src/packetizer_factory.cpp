@@ -31,24 +31,28 @@ bool is_ouster(const std::string& name) { return name.rfind("os", 0) == 0; }
 }
 
 // Position of the sensor for the Velodyne $GPRMC: the trajectory through the scene's georef.
-// A receiver reports one fix per UTC second, so the fix is computed once per second (a projected
-// to geodetic conversion costs tens of µs; position packets come every few ms).
+// A receiver reports one fix per UTC second, so the fix is computed once per second, with the
+// PROJ transform set up once (setting it up costs ~10 ms; position packets come every few ms).
 velodyne::PositionFn position_fn(const Job& job) {
     const scene::Scene* s = job.scene.get();
     const core::Trajectory* traj = &job.trajectory;
     struct Cache {
         std::int64_t second = std::numeric_limits<std::int64_t>::min();
         velodyne::GeoFix fix;
+        std::shared_ptr<core::GeodeticConverter> to_geodetic;  // null: no CRS
     };
     auto cache = std::make_shared<Cache>();
-    return [s, traj, cache](core::GpsTime t) {
+    if (s->georef.has_crs())
+        cache->to_geodetic = std::make_shared<core::GeodeticConverter>(s->georef);
+    return [traj, cache](core::GpsTime t) {
         const std::int64_t second = core::unix_ns_from_gps(t) / 1'000'000'000;
         if (second == cache->second) return cache->fix;
         velodyne::GeoFix fix;
         try {
+            if (!cache->to_geodetic) throw ConfigError("georef: no CRS");
             t = core::gps_from_unix_ns(second * 1'000'000'000);  // the fix's own instant
             const Eigen::Vector3d p = traj->at(t).position;
-            const Eigen::Vector3d llh = s->georef.geodetic_from_local(p);
+            const Eigen::Vector3d llh = cache->to_geodetic->geodetic_from_local(p);
             fix.lat_deg = llh.x();
             fix.lon_deg = llh.y();
             // Speed and course over ground from ±0.5 s (a 1 Hz receiver's view).

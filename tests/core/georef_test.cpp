@@ -67,6 +67,20 @@ TEST(Georef, anchor_round_trips_through_geodetic) {
     EXPECT_NEAR(llh.z(), 100.0, 1e-6);
 }
 
+TEST(Georef, converter_reuses_one_transform_and_matches_the_single_call) {
+    const Georef g = Georef::geodetic(45, 9, 100);
+    const GeodeticConverter conv(g);
+    for (const Eigen::Vector3d& local :
+         {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(100, 0, 0), Eigen::Vector3d(-350, 720, 12)}) {
+        const Eigen::Vector3d a = conv.geodetic_from_local(local);
+        const Eigen::Vector3d b = g.geodetic_from_local(local);
+        EXPECT_DOUBLE_EQ(a.x(), b.x());
+        EXPECT_DOUBLE_EQ(a.y(), b.y());
+        EXPECT_DOUBLE_EQ(a.z(), b.z());
+    }
+    EXPECT_THROW(GeodeticConverter(Georef{}), mirage::ConfigError);
+}
+
 TEST(Georef, point_100m_east_round_trips_within_1mm) {
     const Georef g = Georef::geodetic(45, 9, 100);
     const Eigen::Vector3d local(100, 0, 0);

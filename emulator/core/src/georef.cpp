@@ -163,16 +163,33 @@ std::vector<Eigen::Vector3d> Georef::local_from_geodetic(
 }
 
 Eigen::Vector3d Georef::geodetic_from_local(const Eigen::Vector3d& local) const {
-    if (!has_crs()) {
+    return GeodeticConverter(*this).geodetic_from_local(local);
+}
+
+struct GeodeticConverter::Impl {
+    Georef georef;
+    ProjContext ctx;
+    PjPtr transform;
+};
+
+GeodeticConverter::GeodeticConverter(const Georef& georef) : impl_(std::make_unique<Impl>()) {
+    if (!georef.has_crs()) {
         throw ConfigError("georef: geodetic coordinates need a CRS, but no EPSG code is set");
     }
-    ProjContext ctx;
-    PjPtr t = create_transform(ctx, epsg_);
-    const Eigen::Vector3d w = world_from_local(local);
-    proj_errno_reset(t.get());
-    const PJ_COORD out = proj_trans(t.get(), PJ_INV, proj_coord(w.x(), w.y(), w.z(), 0.0));
+    impl_->georef = georef;
+    impl_->transform = create_transform(impl_->ctx, georef.epsg());
+}
+
+GeodeticConverter::~GeodeticConverter() = default;
+
+Eigen::Vector3d GeodeticConverter::geodetic_from_local(const Eigen::Vector3d& local) const {
+    PJ* t = impl_->transform.get();
+    const Eigen::Vector3d w = impl_->georef.world_from_local(local);
+    proj_errno_reset(t);
+    const PJ_COORD out = proj_trans(t, PJ_INV, proj_coord(w.x(), w.y(), w.z(), 0.0));
     const Eigen::Vector3d llh{out.xyz.y, out.xyz.x, out.xyz.z};  // lon/lat -> lat, lon
-    if (!llh.allFinite()) fail(epsg_, "cannot unproject local point: " + ctx.error());
+    if (!llh.allFinite())
+        fail(impl_->georef.epsg(), "cannot unproject local point: " + impl_->ctx.error());
     return llh;
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,22 @@ class Georef {
   private:
     int epsg_ = 0;
     Eigen::Vector3d anchor_{Eigen::Vector3d::Zero()};
+};
+
+// Local -> WGS84 geodetic with the PROJ set-up done once (a single Georef::geodetic_from_local
+// call builds its own, ~10 ms): for per-packet conversions on a streaming thread. Not
+// thread-safe; one per thread.
+class GeodeticConverter {
+  public:
+    explicit GeodeticConverter(const Georef& georef);  // throws ConfigError without a CRS
+    ~GeodeticConverter();
+    GeodeticConverter(const GeodeticConverter&) = delete;
+    GeodeticConverter& operator=(const GeodeticConverter&) = delete;
+    Eigen::Vector3d geodetic_from_local(const Eigen::Vector3d& local) const;  // (lat, lon, h)
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace mirage::core
