@@ -93,7 +93,8 @@ void register_bench(CLI::App& app) {
     struct Opts {
         std::string out_dir = "bench-results";
         int threads = 0;
-        std::string seconds = "3";  // simulated seconds per throughput configuration
+        std::string seconds =
+            "20";  // simulated seconds per throughput configuration (warm-up < 3 %)
         bool quick = false;
         std::vector<std::string> sensors;  // empty: all
         std::vector<int> sub_rays;         // empty: 1, 7, 19

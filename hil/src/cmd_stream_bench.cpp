@@ -277,6 +277,7 @@ void hand_over(StreamRun& r, const wire::PacketView& p) {
         r.anchored = true;
         r.t0 = p.time;
         r.anchor_ns = now;
+        r.out->anchor(r.t0, r.anchor_ns);  // the Pacer's schedule is exactly the one measured
     }
     const std::int64_t deadline = r.anchor_ns + (p.time - r.t0).count();
     const bool data = p.stream == wire::Stream::Data;
@@ -696,7 +697,7 @@ void register_stream_bench(CLI::App& app) {
         std::string seconds = "60";
         std::string out_dir = "bench-results";
         std::string trajectory = "demo-car";
-        int render_threads = 1;
+        int render_threads = 2;
         std::size_t chunk_pulses = 16384;
         int fifo_priority = 10;
         bool quick = false;

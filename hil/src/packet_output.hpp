@@ -43,6 +43,11 @@ class PacketOutput {
   public:
     explicit PacketOutput(PacketOutputOptions options);  // throws ConfigError / IoError
     void operator()(const wire::PacketView& packet);     // never throws on send errors
+    // Ties sensor time t0 to host CLOCK_MONOTONIC host_ns before the first packet (default: the
+    // first packet's time is "now"); for measuring lateness against the same schedule.
+    void anchor(core::GpsTime t0, std::int64_t host_monotonic_ns) {
+        pacer_.anchor(t0, host_monotonic_ns);
+    }
     // Flushes and closes the pcap (throws IoError on a write error) and ends the status line.
     PacketOutputTotals finish();
     const PacketOutputOptions& options() const { return opt_; }
