@@ -27,8 +27,8 @@ asan: deps
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ctest --output-on-failure -j $(JOBS) -L unit
 
-# libFuzzer (Clang) on the packet decoders under ASan+UBSan, FUZZ_SECONDS each, seeded with the
-# real captures' packets when ../shared/captures is present.
+# libFuzzer (Clang) on the packet decoders under ASan+UBSan, FUZZ_SECONDS each, with a corpus
+# kept in build-fuzz/corpus.
 FUZZ_SECONDS ?= 30
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)

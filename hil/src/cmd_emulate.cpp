@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "commands.hpp"
 #include "job.hpp"
@@ -16,20 +17,10 @@
 #include "packetizer_factory.hpp"
 #include "stop_signal.hpp"
 #include "summary.hpp"
+#include "text_file.hpp"
 
 namespace mirage::hil {
 namespace {
-
-// Pipeline points into the packetizer; pulses without returns still advance it.
-class PacketizerSink : public render::PointSink {
-  public:
-    explicit PacketizerSink(wire::Packetizer& p) : p_(p) {}
-    void write(std::span<const core::PointRecord> points) override { p_.add(points); }
-    void pulses_done(std::uint64_t next_pulse) override { p_.advance_to(next_pulse); }
-
-  private:
-    wire::Packetizer& p_;
-};
 
 // "gps:<seconds>.<ns>" of the host's clock now, whole ms: a live fake sensor stamps the present.
 std::string gps_now_spec() {
@@ -45,13 +36,6 @@ std::string default_side_path(const std::string& pcap, const std::string& ext) {
     std::filesystem::path p(pcap);
     p.replace_extension(ext);
     return p.string();
-}
-
-void write_text(const std::string& path, const std::string& text, const char* what) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) throw IoError(fmt::format("emulate: cannot write {} file '{}'", what, path));
 }
 
 }  // namespace
@@ -91,7 +75,8 @@ void register_emulate(CLI::App& app) {
     cmd->add_option("--return-mode", o->wire.return_mode, "Velodyne: strongest, last or dual")
         ->check(CLI::IsMember({"strongest", "last", "dual"}))
         ->capture_default_str();
-    cmd->add_option("--rpm", o->rpm, "Velodyne rotation rate (model's range, e.g. 300-1200)");
+    cmd->add_option("--rpm", o->rpm, "Velodyne rotation rate (model's range, e.g. 300-1200)")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--profile", o->wire.profile,
                     "Ouster UDP profile: LEGACY, RNG19_RFL8_SIG16_NIR16 or RNG15_RFL8_NIR8")
         ->capture_default_str();
@@ -119,6 +104,10 @@ void register_emulate(CLI::App& app) {
             throw ConfigError("emulate: nothing to do: give --to HOST and/or --pcap FILE");
         const bool is_static = in.trajectory.empty() || in.trajectory.rfind("static:", 0) == 0;
         const bool forever = is_static && in.duration.empty();
+        if (forever && o->afap)
+            throw ConfigError(
+                "emulate: --as-fast-as-possible needs --duration (a static pose "
+                "otherwise streams until Ctrl-C)");
         if (forever) in.duration = "86400";  // until interrupted (a day at most)
         const bool csv =
             !is_static && in.trajectory != "demo-car" && in.trajectory != "demo-flight";
@@ -126,7 +115,7 @@ void register_emulate(CLI::App& app) {
 
         Job job = load_job(in);
         prepare_sensor(job, o->wire, o->rpm);
-        const bool ouster = job.sensor.name.rfind("os", 0) == 0;
+        const bool ouster = is_ouster(job.sensor.name);
 
         PacketOutputOptions po;
         po.realtime = !o->afap;
@@ -146,12 +135,18 @@ void register_emulate(CLI::App& app) {
             sc.source_ports.data = o->source_port;
             po.udp = sc;
         }
-        PacketOutput out(po);
+        // The encoder first: it checks the model's settings (rpm range, profile) before any
+        // socket or file is opened.
+        WireOptions wo = o->wire;
+        wo.position_packets = ports.position != 0;
+        wo.imu_packets = ports.imu != 0;
+        std::optional<PacketOutput> out;
         WireSetup w = make_wire(
-            job, o->wire, [&out](const wire::PacketView& p) { out(p); }, o->to);
+            job, wo, [&out](const wire::PacketView& p) { (*out)(p); }, o->to);
+        out.emplace(po);
         std::string side = o->calibration_out;
         if (side.empty() && !o->pcap.empty()) side = default_side_path(o->pcap, w.side_file_ext);
-        if (!side.empty()) write_text(side, w.side_file, w.side_file_kind.c_str());
+        if (!side.empty()) write_text_file(side, w.side_file, "emulate: " + w.side_file_kind);
 
         std::fprintf(
             stderr, "mirage emulate: %s %s -> %s%s, %.0f data packets/s%s\n", w.vendor.c_str(),
@@ -164,7 +159,7 @@ void register_emulate(CLI::App& app) {
         const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
                                           job.mount, job.env, job.options, sink, {}, &stop);
         w.packetizer->finish();
-        const PacketOutputTotals t = out.finish();
+        const PacketOutputTotals t = out->finish();
         std::printf(
             "mirage emulate: %llu packets (%.2f MB) in %.3f s, %llu points from %llu pulses; "
             "sent %llu, failed sends %llu, pcap %llu; lateness p50 %.0f µs, p99 %.0f µs, worst "

@@ -30,6 +30,7 @@
 #include "packet_output.hpp"
 #include "packetizer_factory.hpp"
 #include "stream_bench.hpp"
+#include "text_file.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -74,22 +75,6 @@ double cpu_seconds() {
         return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
     };
     return tv(ru.ru_utime) + tv(ru.ru_stime);
-}
-
-// CLOCK_REALTIME − CLOCK_MONOTONIC from the tightest of a few bracketing reads: kernel receive
-// timestamps are on the realtime clock, the schedule on the monotonic one.
-std::int64_t realtime_minus_monotonic() {
-    std::int64_t best_gap = INT64_MAX, offset = 0;
-    for (int i = 0; i < 32; ++i) {
-        const std::int64_t m0 = udp::Pacer::monotonic_ns();
-        const std::int64_t r = udp::realtime_ns();
-        const std::int64_t m1 = udp::Pacer::monotonic_ns();
-        if (m1 - m0 < best_gap) {
-            best_gap = m1 - m0;
-            offset = r - (m0 + (m1 - m0) / 2);
-        }
-    }
-    return offset;
 }
 
 std::string read_first_line_with(const char* path, const char* prefix) {
@@ -235,16 +220,6 @@ EncoderRow bench_encoder(const Case& c, const std::shared_ptr<const scene::Scene
 
 // ---- 2. Three streams at once ---------------------------------------------------------------
 
-class PacketizerSink : public render::PointSink {
-  public:
-    explicit PacketizerSink(wire::Packetizer& p) : p_(p) {}
-    void write(std::span<const core::PointRecord> points) override { p_.add(points); }
-    void pulses_done(std::uint64_t next_pulse) override { p_.advance_to(next_pulse); }
-
-  private:
-    wire::Packetizer& p_;
-};
-
 // One emulated sensor: its pipeline, output and loopback receiver, and what each side measured.
 struct StreamRun {
     Case c{};
@@ -269,7 +244,7 @@ struct StreamRun {
 };
 
 // The writer-thread side: record the packet's schedule, then hand it to the paced output. The
-// schedule is anchored like the output's Pacer (first packet = now), a few tens of ns earlier.
+// first packet anchors both this schedule and the output's Pacer (first packet = now).
 void hand_over(StreamRun& r, const wire::PacketView& p) {
     const std::uint64_t key = packet_key(p.bytes);
     const std::int64_t now = udp::Pacer::monotonic_ns();
@@ -407,7 +382,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         const WireOptions wo = wire_options(c);
         prepare_sensor(r->job, wo, 0);
         r->rx = std::make_unique<udp::UdpReceiver>();
-        const bool ouster = r->job.sensor.name.rfind("os", 0) == 0;
+        const bool ouster = is_ouster(r->job.sensor.name);
         PacketOutputOptions po;
         po.realtime = true;
         po.status_line = false;
@@ -429,7 +404,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         runs.push_back(std::move(r));
     }
     const render::Renderer& renderer = *runs.front()->job.renderer;
-    const std::int64_t rt_minus_mono = realtime_minus_monotonic();
+    const std::int64_t rt_minus_mono = udp::realtime_minus_monotonic();
 
     std::atomic<bool> done{false};
     std::vector<std::thread> receivers, senders;
@@ -689,13 +664,6 @@ std::string json(const Report& r) {
     return o.str();
 }
 
-void write_file(const std::filesystem::path& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) throw IoError(fmt::format("stream-bench: cannot write '{}'", path.string()));
-}
-
 }  // namespace
 
 void register_stream_bench(CLI::App& app) {
@@ -730,6 +698,7 @@ void register_stream_bench(CLI::App& app) {
     cmd->add_option("--fifo-priority", o->fifo_priority,
                     "SCHED_FIFO priority of the streams' sending threads (as emulate "
                     "--rt-priority) and of the second pacing probe run (0: neither)")
+        ->check(CLI::Range(0, 99))
         ->capture_default_str();
     cmd->add_flag("--quick", o->quick, "Short run for CI: 3 s streams, short encoder runs");
     cmd->callback([o] {
@@ -741,7 +710,11 @@ void register_stream_bench(CLI::App& app) {
             throw ConfigError("stream-bench: --render-threads: expected at least 1");
         const double secs =
             static_cast<double>(parse_seconds(rep.seconds, "--seconds").count()) / 1e9;
-        std::filesystem::create_directories(o->out_dir);
+        std::error_code ec;
+        std::filesystem::create_directories(o->out_dir, ec);
+        if (ec)
+            throw IoError(
+                fmt::format("stream-bench: cannot create '{}': {}", o->out_dir, ec.message()));
         std::printf("mirage stream-bench: %s, %u cores, load %s\n", rep.machine.cpu.c_str(),
                     rep.machine.cores, rep.machine.load.c_str());
         std::fflush(stdout);
@@ -770,8 +743,8 @@ void register_stream_bench(CLI::App& app) {
         // 4. Reports.
         const std::string md = markdown(rep);
         const std::filesystem::path dir(o->out_dir);
-        write_file(dir / "streams.md", md);
-        write_file(dir / "streams.json", json(rep));
+        write_text_file((dir / "streams.md").string(), md, "stream-bench");
+        write_text_file((dir / "streams.json").string(), json(rep), "stream-bench");
         std::printf("\n%s\nwrote %s and %s\n", md.c_str(), (dir / "streams.md").string().c_str(),
                     (dir / "streams.json").string().c_str());
         for (const auto& t : rep.streams.rows)

@@ -37,14 +37,14 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
     const auto now = std::chrono::steady_clock::now();
     if (!started_) {
         started_ = true;
-        first_ = last_status_ = now;
+        first_ = last_status_ = last_tick_ = now;
         if (opt_.realtime && opt_.fifo_priority > 0) {
-            if (udp::set_realtime_priority(opt_.fifo_priority, fifo_error_)) {
+            if (udp::set_realtime_priority(opt_.fifo_priority, totals_.fifo_error)) {
                 totals_.fifo = true;
             } else {
                 std::fprintf(stderr,
                              "packet output: SCHED_FIFO %d not set (%s); pacing without it\n",
-                             opt_.fifo_priority, fifo_error_.c_str());
+                             opt_.fifo_priority, totals_.fifo_error.c_str());
             }
         }
     }
@@ -64,7 +64,23 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
     }
     ++totals_.packets;
     totals_.bytes += packet.bytes.size();
-    if (opt_.status_line && now - last_status_ >= std::chrono::seconds(1)) print_status(false);
+    if (now - last_tick_ >= std::chrono::seconds(1)) tick(now);
+}
+
+// Once a second: push the capture to disk, so a full disk is reported while streaming (the
+// stream goes on without the capture) rather than at the end, and refresh the status line.
+void PacketOutput::tick(std::chrono::steady_clock::time_point now) {
+    last_tick_ = now;
+    if (pcap_) {
+        try {
+            pcap_->flush();
+        } catch (const IoError& e) {
+            pcap_error_ = e.what();
+            pcap_.reset();  // closing again reports the same error; the file keeps whole records
+            std::fprintf(stderr, "\n%s; capture stopped, stream continues\n", pcap_error_.c_str());
+        }
+    }
+    if (opt_.status_line) print_status(false);
 }
 
 void PacketOutput::print_status(bool final) {
@@ -80,6 +96,7 @@ void PacketOutput::print_status(bool final) {
                  static_cast<unsigned long long>(st.late()), double(st.worst().count()) / 1e3,
                  static_cast<unsigned long long>(totals_.send_failed), final ? "\n" : "");
     std::fflush(stderr);
+    status_printed_ = true;
     last_status_ = now;
     packets_at_status_ = totals_.packets;
     bytes_at_status_ = totals_.bytes;
@@ -89,16 +106,16 @@ PacketOutputTotals PacketOutput::finish() {
     if (opt_.status_line && started_) {
         if (std::chrono::steady_clock::now() - last_status_ > std::chrono::milliseconds(300))
             print_status(true);
-        else if (totals_.packets > 0 && packets_at_status_ > 0)
+        else if (status_printed_)
             std::fputc('\n', stderr);  // end the status line printed just now
     }
     if (pcap_) pcap_->close();
+    if (!pcap_error_.empty()) throw IoError(pcap_error_);
     const auto& st = pacer_.stats();
     totals_.late = st.late();
     totals_.worst_late = st.worst();
     totals_.p50 = st.percentile(0.50);
     totals_.p99 = st.percentile(0.99);
-    totals_.fifo_error = fifo_error_;
     totals_.seconds =
         started_ ? std::chrono::duration<double>(std::chrono::steady_clock::now() - first_).count()
                  : 0.0;

@@ -48,11 +48,13 @@ class PacketOutput {
     void anchor(core::GpsTime t0, std::int64_t host_monotonic_ns) {
         pacer_.anchor(t0, host_monotonic_ns);
     }
-    // Flushes and closes the pcap (throws IoError on a write error) and ends the status line.
+    // Flushes and closes the pcap and ends the status line. Throws IoError (naming the file) if
+    // writing the capture failed at any point; the stream itself never stops for it.
     PacketOutputTotals finish();
     const PacketOutputOptions& options() const { return opt_; }
 
   private:
+    void tick(std::chrono::steady_clock::time_point now);
     void print_status(bool final);
 
     PacketOutputOptions opt_;
@@ -64,8 +66,9 @@ class PacketOutput {
     PacketOutputTotals totals_;
     std::chrono::steady_clock::time_point first_{}, last_status_{};
     std::uint64_t packets_at_status_ = 0, bytes_at_status_ = 0;
-    bool started_ = false;
-    std::string fifo_error_;  // why SCHED_FIFO could not be set (reported by finish())
+    bool started_ = false, status_printed_ = false;
+    std::chrono::steady_clock::time_point last_tick_{};
+    std::string pcap_error_;  // the capture's write error; finish() throws it
 };
 
 }  // namespace mirage::hil

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numbers>
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
@@ -20,8 +21,6 @@
 
 namespace mirage::hil {
 namespace {
-
-bool is_ouster(const std::string& name) { return name.rfind("os", 0) == 0; }
 
 [[noreturn]] void no_wire_format(const std::string& name) {
     throw ConfigError(fmt::format(
@@ -48,22 +47,25 @@ velodyne::PositionFn position_fn(const Job& job) {
         const std::int64_t second = core::unix_ns_from_gps(t) / 1'000'000'000;
         if (second == cache->second) return cache->fix;
         velodyne::GeoFix fix;
-        try {
-            if (!cache->to_geodetic) throw ConfigError("georef: no CRS");
+        fix.valid = false;  // no CRS or no projection: the receiver reports "no fix"
+        if (cache->to_geodetic) {
             t = core::gps_from_unix_ns(second * 1'000'000'000);  // the fix's own instant
             const Eigen::Vector3d p = traj->at(t).position;
-            const Eigen::Vector3d llh = cache->to_geodetic->geodetic_from_local(p);
-            fix.lat_deg = llh.x();
-            fix.lon_deg = llh.y();
             // Speed and course over ground from ±0.5 s (a 1 Hz receiver's view).
             const core::Nanos h = std::chrono::milliseconds(500);
             const Eigen::Vector3d v = traj->at(t + h).position - traj->at(t - h).position;
-            fix.speed_knots = v.head<2>().norm() * 3600.0 / 1852.0;  // m per 1 s → knots
-            double course = std::atan2(v.x(), v.y()) * 180.0 / 3.14159265358979323846;
-            if (course < 0) course += 360.0;
-            fix.course_deg = course;
-        } catch (const Error&) {
-            fix.valid = false;  // no CRS: the receiver reports "no fix"
+            try {
+                const Eigen::Vector3d llh = cache->to_geodetic->geodetic_from_local(p);
+                fix.lat_deg = llh.x();
+                fix.lon_deg = llh.y();
+                fix.speed_knots = v.head<2>().norm() * 3600.0 / 1852.0;  // m per 1 s → knots
+                double course = std::atan2(v.x(), v.y()) * 180.0 / std::numbers::pi;
+                if (course < 0) course += 360.0;
+                fix.course_deg = course;
+                fix.valid = true;
+            } catch (const Error&) {
+                // A point PROJ cannot invert (far outside the zone): no fix this second.
+            }
         }
         cache->second = second;
         cache->fix = fix;
@@ -110,7 +112,8 @@ WireSetup make_wire(const Job& job, const WireOptions& options, wire::PacketFn s
         const auto& d = velodyne::descriptor(*model);
         const auto mode = velodyne::parse_return_mode(options.return_mode);
         velodyne::PacketizerOptions po;
-        po.position = position_fn(job);
+        po.position_packets = options.position_packets;
+        if (options.position_packets) po.position = position_fn(job);
         auto p = std::make_unique<velodyne::Packetizer>(d, mode, job.sensor, job.options.start,
                                                         std::move(sink), po);
         w.packets_per_second = d.packets_per_second(mode);  // firing timing is fixed; rpm is not
@@ -128,7 +131,10 @@ WireSetup make_wire(const Job& job, const WireOptions& options, wire::PacketFn s
     cfg.start = job.options.start;
     const core::Trajectory* traj = &job.trajectory;
     const core::Mount mount = job.mount;
-    cfg.imu = [traj, mount, d](core::GpsTime t) { return ouster::imu_reading(*traj, mount, d, t); };
+    if (options.imu_packets)
+        cfg.imu = [traj, mount, d](core::GpsTime t) {
+            return ouster::imu_reading(*traj, mount, d, t);
+        };
     w.packetizer = std::make_unique<ouster::OusterPacketizer>(d, cfg, std::move(sink));
     w.packets_per_second = double(d.mode.hz) * double(d.packets_per_frame());
     w.vendor = "ouster";

@@ -11,6 +11,22 @@ namespace mirage::hil {
 struct WireOptions {
     std::string return_mode = "strongest";  // Velodyne: strongest | last | dual
     std::string profile = "LEGACY";  // Ouster: LEGACY | RNG19_RFL8_SIG16_NIR16 | RNG15_RFL8_NIR8
+    bool position_packets = true;    // Velodyne position stream (off when its port is 0)
+    bool imu_packets = true;         // Ouster IMU stream (off when its port is 0)
+};
+
+// Ouster presets are named os<P>-<H>-<W>x<F>.
+inline bool is_ouster(const std::string& sensor_name) { return sensor_name.rfind("os", 0) == 0; }
+
+// Pipeline points into a packetizer; pulses without returns still advance it.
+class PacketizerSink : public render::PointSink {
+  public:
+    explicit PacketizerSink(wire::Packetizer& p) : p_(p) {}
+    void write(std::span<const core::PointRecord> points) override { p_.add(points); }
+    void pulses_done(std::uint64_t next_pulse) override { p_.advance_to(next_pulse); }
+
+  private:
+    wire::Packetizer& p_;
 };
 
 // A sensor's packet encoder and the side files its clients need.

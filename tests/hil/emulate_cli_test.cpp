@@ -35,6 +35,10 @@ TEST(EmulateCli, settings_the_model_lacks_are_config_errors_naming_the_setting) 
         EXPECT_NE(r.exit_code, 0) << c.args;
         EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
     }
+    const auto unbounded =
+        run_mirage("emulate --pose 0,0,2 --as-fast-as-possible --pcap /dev/null");
+    EXPECT_EQ(unbounded.exit_code, 2);
+    EXPECT_NE(unbounded.output.find("needs --duration"), std::string::npos) << unbounded.output;
     const auto none = run_mirage("emulate --pose 0,0,2 --duration 0.1");
     EXPECT_EQ(none.exit_code, 2);
     EXPECT_NE(none.output.find("--to"), std::string::npos) << none.output;
@@ -69,6 +73,26 @@ TEST(EmulateCli, vlp16_pcap_has_the_device_packet_rates_and_decodes_cleanly) {
     // Packet send times follow the firing clock: 1 s of data spans 1 s within one packet.
     const double span_s = double(data.back().time_ns - data.front().time_ns) * 1e-9;
     EXPECT_NEAR(span_s, 1.0, 2.0 / 754.0);
+}
+
+TEST(EmulateCli, a_stream_with_port_zero_is_not_produced_and_settings_fail_before_files) {
+    TempDir tmp;
+    const auto pcap = tmp.file("nopos.pcap");
+    const auto r = run_mirage(
+        "emulate --sensor vlp16 --pose 0,0,1.8 --duration 0.2 "
+        "--as-fast-as-possible --no-status --position-port 0 --pcap " +
+        pcap);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_GT(pcap::read_udp(pcap, 2368).size(), 100u);
+    EXPECT_EQ(pcap::read_udp(pcap, 8308).size(), 0u);
+    EXPECT_EQ(pcap::read_udp(pcap, 0).size(), pcap::read_udp(pcap, 2368).size());  // nothing else
+    // A setting the model lacks is reported before any output file exists.
+    const auto bad = tmp.file("bad.pcap");
+    EXPECT_EQ(
+        run_mirage("emulate --sensor vlp16 --pose 0,0,1.8 --duration 0.2 --rpm 2000 --pcap " + bad)
+            .exit_code,
+        2);
+    EXPECT_FALSE(std::filesystem::exists(bad));
 }
 
 TEST(EmulateCli, ouster_rng19_pcap_has_lidar_and_imu_packets_at_device_rates) {

@@ -17,21 +17,6 @@
 namespace mirage::udp {
 namespace {
 
-// CLOCK_REALTIME − CLOCK_MONOTONIC, from the tightest of a few bracketing reads.
-std::int64_t realtime_minus_monotonic() {
-    std::int64_t best_gap = INT64_MAX, offset = 0;
-    for (int i = 0; i < 16; ++i) {
-        const std::int64_t m0 = Pacer::monotonic_ns();
-        const std::int64_t r = realtime_ns();
-        const std::int64_t m1 = Pacer::monotonic_ns();
-        if (m1 - m0 < best_gap) {
-            best_gap = m1 - m0;
-            offset = r - (m0 + (m1 - m0) / 2);
-        }
-    }
-    return offset;
-}
-
 std::int64_t minimum(const std::vector<std::int64_t>& v) {
     return v.empty() ? 0 : *std::min_element(v.begin(), v.end());
 }

@@ -9,10 +9,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <ctime>
 
 #include "mirage/core/error.hpp"
+#include "mirage/udp/pacer.hpp"
 
 namespace mirage::udp {
 namespace {
@@ -117,6 +119,20 @@ std::size_t UdpReceiver::drain() {
     char buf[64];
     while (::recv(fd_, buf, sizeof buf, MSG_DONTWAIT) >= 0) ++n;
     return n;
+}
+
+std::int64_t realtime_minus_monotonic() {
+    std::int64_t best_gap = INT64_MAX, offset = 0;
+    for (int i = 0; i < 16; ++i) {
+        const std::int64_t m0 = Pacer::monotonic_ns();
+        const std::int64_t r = realtime_ns();
+        const std::int64_t m1 = Pacer::monotonic_ns();
+        if (m1 - m0 < best_gap) {
+            best_gap = m1 - m0;
+            offset = r - (m0 + (m1 - m0) / 2);
+        }
+    }
+    return offset;
 }
 
 }  // namespace mirage::udp

@@ -85,10 +85,9 @@ class ChunkBuilder {
         sensor_.scan->pulses(first, n, g.specs.data());
         g.origin.resize(n);
         g.direction.resize(n);
-        // Exact poses (slerp on the trajectory) every kPoseStride pulses; pulses between take
-        // the linear/normalised-linear blend of the two bracketing exact poses. Over a few tens of
-        // µs the blend differs from the exact pose by < 1e-9 m and < 1e-12 rad, and it removes
-        // most of the trigonometry from the per-pulse cost.
+        // Exact poses (slerp on the trajectory) every kPoseStride pulses; pulses between blend
+        // the two bracketing poses (positions linearly, rotation matrices linearly with the
+        // direction renormalised), which removes the trigonometry from the per-pulse cost.
         std::size_t hint = 0;
         std::int64_t t0 = 0;
         double inv_dt = 0;
@@ -295,8 +294,9 @@ class PulseShader {
             for (std::size_t a = 1; a < contrib.size(); ++a) {
                 const Contribution c = contrib[a];
                 std::size_t b = a;
-                for (; b > 0 && (contrib[b - 1].range_m > c.range_m ||
-                                 (contrib[b - 1].range_m == c.range_m && contrib[b - 1].sub > c.sub));
+                for (;
+                     b > 0 && (contrib[b - 1].range_m > c.range_m ||
+                               (contrib[b - 1].range_m == c.range_m && contrib[b - 1].sub > c.sub));
                      --b)
                     contrib[b] = contrib[b - 1];
                 contrib[b] = c;
