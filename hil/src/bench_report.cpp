@@ -20,6 +20,8 @@ std::ofstream open_out(const std::string& path) {
     return f;
 }
 
+}  // namespace
+
 std::string cpu_model() {
     std::ifstream f("/proc/cpuinfo");
     std::string line;
@@ -27,8 +29,6 @@ std::string cpu_model() {
         if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
     return "unknown CPU";
 }
-
-}  // namespace
 
 std::string machine_description(int threads) {
     return fmt::format("{}, {} hardware threads, {} worker threads, Embree {}", cpu_model(),

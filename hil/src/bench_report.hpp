@@ -40,6 +40,8 @@ struct BenchReport {
 };
 
 // CPU model, cores, threads used, Embree version.
+// The CPU's model name from /proc/cpuinfo ("unknown CPU" when absent).
+std::string cpu_model();
 std::string machine_description(int threads);
 // report.md, report.json and time_vs_error.svg in `dir`.
 void write_reports(const BenchReport& r, const std::string& dir);

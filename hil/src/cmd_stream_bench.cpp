@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_report.hpp"
 #include "commands.hpp"
 #include "job.hpp"
 #include "mirage/core/error.hpp"
@@ -77,17 +78,6 @@ double cpu_seconds() {
     return tv(ru.ru_utime) + tv(ru.ru_stime);
 }
 
-std::string read_first_line_with(const char* path, const char* prefix) {
-    std::ifstream f(path);
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind(prefix, 0) == 0) {
-            const auto colon = line.find(':');
-            return colon == std::string::npos ? line : line.substr(colon + 2);
-        }
-    return "unknown";
-}
-
 struct Machine {
     std::string cpu, kernel, load;
     unsigned cores = 0;
@@ -95,7 +85,7 @@ struct Machine {
 
 Machine machine_now() {
     Machine m;
-    m.cpu = read_first_line_with("/proc/cpuinfo", "model name");
+    m.cpu = cpu_model();
     m.cores = std::thread::hardware_concurrency();
     std::ifstream la("/proc/loadavg");
     std::string a, b, c;
