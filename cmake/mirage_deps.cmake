@@ -19,6 +19,7 @@ find_package(PCL 1.13 QUIET COMPONENTS common io)  # libpcl-dev: an independent 
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET libpcap)  # libpcap-dev: pcap capture files
 pkg_check_modules(LZMA REQUIRED IMPORTED_TARGET liblzma)  # liblzma-dev: CRC-64/XZ (Ouster)
+pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)  # libusb-1.0-0-dev: gs_usb CAN adapters
 find_package(nlohmann_json 3.11 REQUIRED)  # nlohmann-json3-dev: Ouster metadata JSON
 find_package(Boost 1.74 REQUIRED)           # libboost-dev: Boost.Asio (header-only) UDP sockets
 if(MIRAGE_BUILD_TESTS)

@@ -25,6 +25,22 @@ inline std::filesystem::path capture_or_skip(const std::string& name) {
     GTEST_SKIP() << "capture " << var << " not found (set MIRAGE_CAPTURES_DIR or the CMake "    \
                  << "option MIRAGE_CAPTURES_DIR to the folder of ../shared/captures)"
 
+// Navigation sample data (../shared/nav-io: rst39.log, DBCs) sits beside the captures folder;
+// MIRAGE_NAVIO_DIR overrides it.
+inline std::filesystem::path navio_file(const std::string& name) {
+    if (const char* env = std::getenv("MIRAGE_NAVIO_DIR")) return std::filesystem::path(env) / name;
+    const char* cap = std::getenv("MIRAGE_CAPTURES_DIR");
+    std::filesystem::path dir = cap ? cap : MIRAGE_CAPTURES_DIR;
+    return dir.parent_path() / "nav-io" / name;
+}
+
+// `MIRAGE_NAVIO_OR_SKIP(path, "rst39.log");` declares `path` or skips with a visible message.
+#define MIRAGE_NAVIO_OR_SKIP(var, name)                                                         \
+    const std::filesystem::path var = ::mirage::test::navio_file(name);                         \
+    if (!std::filesystem::exists(var))                                                          \
+    GTEST_SKIP() << "nav-io file " << var << " not found (set MIRAGE_NAVIO_DIR to the folder "  \
+                 << "of ../shared/nav-io)"
+
 inline std::filesystem::path source_dir() { return MIRAGE_SOURCE_DIR; }
 
 // A fresh temporary folder per test, removed at the end.
