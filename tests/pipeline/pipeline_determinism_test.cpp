@@ -109,3 +109,53 @@ TEST(PipelineProgress, pulses_done_increases_to_the_total_and_covers_every_point
 
 }  // namespace
 }  // namespace mirage::test
+
+namespace mirage::test {
+namespace {
+
+// Live emulation renders a packet's worth of pulses at a time: the points must be those of one
+// render() call over the same pulses, bit for bit (same poses, same per-pulse randomness).
+TEST(WindowRenderer, windows_of_any_size_give_render_s_points_exactly) {
+    scene::Scene s = plane_scene(400.0, Eigen::Affine3d::Identity(), 0.3);
+    render::EmbreeRenderer r(s);
+    auto sensor = sensor::preset("vlp16");
+    sensor.beam.sub_rays = 7;
+    sensor.noise.range_sigma_m = 0.02;
+    render::RenderOptions opt;
+    opt.threads = 2;
+    opt.duration = std::chrono::milliseconds(30);
+    opt.seed = 11;
+    const core::Trajectory traj(std::vector<core::StampedPose>{
+        {core::GpsTime{}, {{0, 0, 1.8}, core::quaternion_from_rpy(0, 0, 0)}},
+        {core::GpsTime{} + std::chrono::seconds(1),
+         {{10, 2, 1.8}, core::quaternion_from_rpy(0.01, 0, 1.0)}}});
+    struct Sink : render::PointSink {
+        std::vector<core::PointRecord> all;
+        void write(std::span<const core::PointRecord> p) override {
+            all.insert(all.end(), p.begin(), p.end());
+        }
+    } sink;
+    render::render(s, r, sensor, traj, {}, physics::Environment{}, opt, sink);
+    const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
+    ASSERT_GT(sink.all.size(), 10000u);
+    for (std::size_t window : {384u, 1000u, 5000u}) {
+        render::WindowRenderer wr(s, r, sensor, {}, physics::Environment{}, opt);
+        std::vector<core::PointRecord> pts;
+        render::RenderStats st;
+        for (std::uint64_t first = 0; first < total; first += window)
+            wr.render(traj, first, static_cast<std::size_t>(std::min<std::uint64_t>(window, total - first)),
+                      pts, st);
+        ASSERT_EQ(pts.size(), sink.all.size()) << window;
+        EXPECT_EQ(st.pulses, total);
+        std::size_t diff = 0;
+        for (std::size_t i = 0; i < pts.size(); ++i)
+            if (pts[i].pulse != sink.all[i].pulse || pts[i].x != sink.all[i].x ||
+                pts[i].y != sink.all[i].y || pts[i].z != sink.all[i].z ||
+                pts[i].intensity != sink.all[i].intensity)
+                ++diff;
+        EXPECT_EQ(diff, 0u) << window;
+    }
+}
+
+}  // namespace
+}  // namespace mirage::test

@@ -604,4 +604,42 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     return stats;
 }
 
+struct WindowRenderer::Impl {
+    const Renderer& renderer;
+    const sensor::SensorModel& sensor;
+    core::Mount mount;
+    GpsTime start;
+    PulseShader shader;
+    ChunkGeometry g;
+    std::vector<Hit> hits;
+    ChunkResult result;
+};
+
+WindowRenderer::WindowRenderer(const scene::Scene& scene, const Renderer& renderer,
+                               const sensor::SensorModel& sensor, const core::Mount& mount,
+                               const physics::Environment& env, const RenderOptions& opt)
+    : impl_(new Impl{renderer, sensor, mount, opt.start, PulseShader(scene, sensor, env, opt),
+                     {}, {}, {}}) {}
+
+WindowRenderer::~WindowRenderer() = default;
+
+void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t first,
+                            std::size_t n, std::vector<core::PointRecord>& out,
+                            RenderStats& stats) {
+    Impl& m = *impl_;
+    const ChunkBuilder builder(m.sensor, trajectory, m.mount, m.start);
+    m.result.points.swap(out);
+    m.result.stats = {};
+    const std::size_t batch = trace_batch_pulses(m.sensor);
+    for (std::size_t done = 0; done < n; done += batch) {
+        const std::size_t k = std::min(batch, n - done);
+        builder.build(first + done, k, m.g);
+        m.hits.resize(m.g.rays.size());
+        m.renderer.intersect(m.g.rays, m.hits);
+        m.shader.shade(first + done, m.g, m.hits, builder.subrays(), m.result);
+    }
+    m.result.points.swap(out);
+    accumulate(stats, m.result.stats);
+}
+
 }  // namespace mirage::render

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -63,6 +64,28 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                    const core::Mount& mount, const physics::Environment& env,
                    const RenderOptions& opt, PointSink& sink, const ProgressFn& progress = {},
                    const std::atomic<bool>* stop = nullptr);
+
+// Renders a few pulses at a time on the calling thread, for live emulation: a packet's worth of
+// pulses just in time, with the poses an INS has reported by then. Same physics and per-pulse
+// randomness as render(), so its points equal render()'s for the same pulses and poses.
+class WindowRenderer {
+  public:
+    WindowRenderer(const scene::Scene& scene, const Renderer& renderer,
+                   const sensor::SensorModel& sensor, const core::Mount& mount,
+                   const physics::Environment& env, const RenderOptions& opt);
+    ~WindowRenderer();
+    WindowRenderer(const WindowRenderer&) = delete;
+    WindowRenderer& operator=(const WindowRenderer&) = delete;
+
+    // Appends the points of pulses [first, first + n) (times from opt.start) to `out`, with
+    // poses from `trajectory`; adds to `stats`.
+    void render(const core::Trajectory& trajectory, std::uint64_t first, std::size_t n,
+                std::vector<core::PointRecord>& out, RenderStats& stats);
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace mirage::render
 
