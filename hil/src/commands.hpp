@@ -13,5 +13,7 @@ void register_las_info(CLI::App& app);
 void register_sensors(CLI::App& app);
 void register_emulate(CLI::App& app);
 void register_stream_bench(CLI::App& app);
+void register_live(CLI::App& app);
+void register_fake_ins(CLI::App& app);
 
 }  // namespace mirage::hil

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
     mirage::hil::register_sensors(app);
     mirage::hil::register_emulate(app);
     mirage::hil::register_stream_bench(app);
+    mirage::hil::register_live(app);
+    mirage::hil::register_fake_ins(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

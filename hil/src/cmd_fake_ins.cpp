@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: Apache-2.0
+// `mirage fake-ins`: the loopback harness's stand-in for an INS — a scripted trajectory sent in
+// real time as NMEA, NovAtel, NCOM, OxTS CAN or SBG CAN on a pty, UDP, slcan pty or CAN bus.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "commands.hpp"
+#include "fake_ins.hpp"
+#include "job.hpp"
+#include "mirage/bytestream/byte_stream.hpp"
+#include "mirage/can/can_bus.hpp"
+#include "mirage/core/error.hpp"
+#include "mirage/navcan/slcan.hpp"
+#include "mirage/navpose/nav_frame.hpp"
+#include "stop_signal.hpp"
+
+namespace mirage::hil {
+namespace {
+
+// The device side of slcan on a pty: CAN frames go out as Lawicel lines, and every command the
+// host sends (C, S6, O, …) is acknowledged with CR as a CANable does.
+class SlcanDevice : public can::CanBus {
+  public:
+    explicit SlcanDevice(bytestream::Pty pty) : pty_(std::move(pty)) {
+        reader_ = std::thread([this] { answer(); });
+    }
+    ~SlcanDevice() override {
+        stop_ = true;
+        if (reader_.joinable()) reader_.join();
+    }
+    bool send(const nav::CanFrame& f) override {
+        const std::string line = navcan::slcan_encode(f);
+        std::lock_guard lk(mu_);
+        const bool ok = pty_.master->write(
+            std::span(reinterpret_cast<const std::uint8_t*>(line.data()), line.size()));
+        ok ? ++c_.tx_frames : ++c_.tx_failed;
+        return ok;
+    }
+    can::RxStatus receive(nav::CanFrame&, std::int64_t&, std::chrono::nanoseconds t) override {
+        std::this_thread::sleep_for(t);
+        return can::RxStatus::Timeout;
+    }
+    can::BusCounters counters() const override { return c_; }
+    std::string name() const override { return "slcan-device:" + pty_.slave_path; }
+
+  private:
+    void answer() {
+        std::array<std::uint8_t, 256> buf{};
+        while (!stop_) {
+            std::size_t n = 0;
+            std::int64_t ns = 0;
+            if (pty_.master->read(buf, n, ns, std::chrono::milliseconds(50)) !=
+                bytestream::ReadStatus::Data)
+                continue;
+            for (std::size_t i = 0; i < n; ++i) {
+                if (buf[i] != '\r') continue;
+                const std::uint8_t ok = '\r';
+                std::lock_guard lk(mu_);
+                pty_.master->write(std::span(&ok, 1));
+            }
+        }
+    }
+    bytestream::Pty pty_;
+    std::mutex mu_;
+    std::atomic<bool> stop_{false};
+    std::thread reader_;
+    can::BusCounters c_;
+};
+
+// "pty[:LINK]" / "slcan-pty[:LINK]": a symlink LINK -> the pty's slave, so a reader can be
+// started with a fixed path.
+std::string link_of(const std::string& to, const std::string& kind) {
+    return to.size() > kind.size() + 1 ? to.substr(kind.size() + 1) : std::string();
+}
+
+void make_link(const std::string& link, const std::string& target) {
+    if (link.empty()) return;
+    std::error_code ec;
+    std::filesystem::remove(link, ec);
+    std::filesystem::create_symlink(target, link, ec);
+    if (ec) throw IoError("fake-ins: cannot create link '" + link + "': " + ec.message());
+}
+
+}  // namespace
+
+void register_fake_ins(CLI::App& app) {
+    auto* cmd = app.add_subcommand(
+        "fake-ins", "Stand in for an INS: send a trajectory in real time as navigation messages");
+    struct Opts {
+        JobInputs job;
+        std::string protocol = "nmea";
+        std::string to = "pty";
+        double rate = 100;
+        std::string duration;
+    };
+    auto o = std::make_shared<Opts>();
+    cmd->add_option("--trajectory", o->job.trajectory,
+                    "Trajectory CSV, 'static:x,y,z[,roll,pitch,yaw]' or 'demo-car' (played from "
+                    "its start at the moment the command starts)")
+        ->required();
+    cmd->add_option("--scene", o->job.scene, "Scene whose georeference maps local to WGS84")
+        ->capture_default_str();
+    cmd->add_option("--protocol", o->protocol, "nmea, novatel, ncom, oxts-can or sbg-can")
+        ->capture_default_str();
+    cmd->add_option("--to", o->to,
+                    "pty[:LINK], udp://host:port, tcp is not offered, slcan-pty[:LINK], "
+                    "socketcan:<if>, gsusb:<vid>:<pid>")
+        ->capture_default_str();
+    cmd->add_option("--rate", o->rate, "Epochs per second")->capture_default_str();
+    cmd->add_option("--duration", o->duration, "Seconds to run (default: until Ctrl-C)");
+    cmd->callback([o] {
+        const NavProtocol proto = parse_nav_protocol(o->protocol);
+        if (!(o->rate > 0 && o->rate <= 1000))
+            throw ConfigError("fake-ins: --rate must be in (0, 1000] Hz");
+        JobInputs in = o->job;
+        double scene_s = 0;
+        auto scene = load_scene_timed(in.scene, scene_s);
+        Job job = load_job_with_scene(in, scene, scene_s, false);
+        const navpose::NavFrame frame = navpose::NavFrame::from_georef(job.scene->georef);
+        FakeInsConfig fc;
+        fc.protocol = proto;
+        fc.rate_hz = o->rate;
+        if (!o->duration.empty()) fc.duration = parse_seconds(o->duration, "--duration");
+
+        std::unique_ptr<bytestream::ByteStream> stream;
+        std::unique_ptr<can::CanBus> bus;
+        std::string where;
+        const std::string& to = o->to;
+        if (to.rfind("memory", 0) == 0)
+            throw ConfigError("fake-ins: a memory: bus lives in one process; use `mirage live "
+                              "--nav oxts-can:memory:x --fake-ins TRAJ`");
+        if (to == "pty" || to.rfind("pty:", 0) == 0) {
+            if (is_can(proto)) throw ConfigError("fake-ins: CAN protocols need slcan-pty or a bus");
+            auto pty = bytestream::open_pty();
+            where = pty.slave_path;
+            make_link(link_of(to, "pty"), where);
+            stream = std::move(pty.master);
+        } else if (to == "slcan-pty" || to.rfind("slcan-pty:", 0) == 0) {
+            if (!is_can(proto)) throw ConfigError("fake-ins: slcan-pty carries CAN protocols only");
+            auto pty = bytestream::open_pty();
+            where = pty.slave_path;
+            make_link(link_of(to, "slcan-pty"), where);
+            bus = std::make_unique<SlcanDevice>(std::move(pty));
+        } else if (to.rfind("udp://", 0) == 0) {
+            if (is_can(proto)) throw ConfigError("fake-ins: CAN protocols need a CAN transport");
+            stream = bytestream::open_byte_stream(to + (to.find('?') == std::string::npos ? "?send" : "&send"));
+            where = to;
+        } else {
+            if (!is_can(proto))
+                throw ConfigError("fake-ins: unknown --to '" + to + "' for " + o->protocol);
+            bus = can::open_can_bus(to);
+            where = to;
+        }
+        const core::GpsTime t0 = gps_now_ms() + std::chrono::milliseconds(200);
+        std::printf("fake-ins: %s on %s t0 gps:%lld.%09lld\n", o->protocol.c_str(), where.c_str(),
+                    static_cast<long long>(t0.time_since_epoch().count() / 1'000'000'000),
+                    static_cast<long long>(t0.time_since_epoch().count() % 1'000'000'000));
+        std::fflush(stdout);
+        const auto& stop = install_stop_signal();
+        FakeIns ins(job.trajectory, frame, fc);
+        const FakeInsTotals t = ins.run(stream.get(), bus.get(), t0, stop);
+        std::printf("fake-ins: %llu epochs, %llu messages, %llu bytes, %llu failed writes\n",
+                    static_cast<unsigned long long>(t.epochs),
+                    static_cast<unsigned long long>(t.messages),
+                    static_cast<unsigned long long>(t.bytes),
+                    static_cast<unsigned long long>(t.write_failures));
+    });
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,276 @@
+// SPDX-License-Identifier: Apache-2.0
+// `mirage live`: the sensor's pose comes from an INS in real time (NMEA, NovAtel, NCOM, OxTS or
+// SBG CAN); what a lidar on that vehicle would see goes out as vendor UDP packets.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <thread>
+
+#include "commands.hpp"
+#include "fake_ins.hpp"
+#include "job.hpp"
+#include "live_loop.hpp"
+#include "mirage/bytestream/byte_stream.hpp"
+#include "mirage/can/can_bus.hpp"
+#include "mirage/core/error.hpp"
+#include "mirage/core/trajectory.hpp"
+#include "mirage/udp/pacer.hpp"
+#include "nav_input.hpp"
+#include "packet_output.hpp"
+#include "packetizer_factory.hpp"
+#include "stop_signal.hpp"
+
+namespace mirage::hil {
+namespace {
+
+navpose::NavFrame make_frame(const Job& job, const std::vector<double>& origin) {
+    if (!origin.empty()) {
+        if (origin.size() != 3) throw ConfigError("live: --nav-origin expects lat,lon,h");
+        return navpose::NavFrame::tangent_plane(origin[0], origin[1], origin[2]);
+    }
+    return navpose::NavFrame::from_georef(job.scene->georef);
+}
+
+// Pulses per data packet (whole firing groups): the live loop renders one packet at a time.
+std::size_t pulses_per_packet(const Job& job, double packets_per_second) {
+    const double pulses_per_s = double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
+    const auto n = static_cast<std::size_t>(std::llround(pulses_per_s / packets_per_second));
+    return render::chunk_pulses(job.sensor, std::max<std::size_t>(1, n));
+}
+
+}  // namespace
+
+void register_live(CLI::App& app) {
+    auto* cmd = app.add_subcommand(
+        "live", "Emulate a lidar in real time with the pose from an INS (serial, TCP, UDP, CAN)");
+    struct Opts {
+        JobInputs job;
+        std::string nav;
+        std::string to;
+        std::uint16_t data_port = 0, position_port = 8308, imu_port = 7503;
+        WireOptions wire;
+        double rpm = 0;
+        std::string pcap;
+        std::string duration;
+        double max_extrapolation_ms = 50, max_jump_m = 20, pipeline_delay_us = 500;
+        double first_nav_timeout_s = 10, undulation_m = 0;
+        std::vector<double> nav_origin;
+        std::string fake_ins;
+        double fake_ins_rate = 100;
+        bool no_status = false;
+        int rt_priority = 0;
+    };
+    auto o = std::make_shared<Opts>();
+    add_job_options(*cmd, o->job, false);
+    cmd->add_option("--sensor", o->job.sensor, "Sensor preset (Velodyne or Ouster)")
+        ->capture_default_str();
+    cmd->add_option("--nav", o->nav,
+                    "Navigation input <protocol>:<transport>: nmea:/dev/ttyUSB0?baud=115200, "
+                    "novatel:tcp://host:port, ncom:udp://:3000, oxts-can:socketcan:can0, "
+                    "sbg-can:slcan:/dev/ttyACM0, oxts-can:gsusb:1d50:606f, oxts-can:memory:x")
+        ->required();
+    cmd->add_option("--to", o->to, "Destination IPv4 host of the lidar packets");
+    cmd->add_option("--data-port", o->data_port, "Lidar data port (default 2368 / 7502)");
+    cmd->add_option("--position-port", o->position_port, "Velodyne position packets (0: off)")
+        ->capture_default_str();
+    cmd->add_option("--imu-port", o->imu_port, "Ouster IMU packets (0: off)")->capture_default_str();
+    cmd->add_option("--return-mode", o->wire.return_mode, "Velodyne: strongest, last or dual")
+        ->check(CLI::IsMember({"strongest", "last", "dual"}))
+        ->capture_default_str();
+    cmd->add_option("--rpm", o->rpm, "Velodyne rotation rate")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--profile", o->wire.profile, "Ouster UDP profile")->capture_default_str();
+    cmd->add_option("--pcap", o->pcap, "Also write the packets to this pcap");
+    cmd->add_option("--duration", o->duration, "Seconds to run (default: until Ctrl-C)");
+    cmd->add_option("--max-extrapolation-ms", o->max_extrapolation_ms,
+                    "Beyond the newest navigation message, poses are extrapolated this long; "
+                    "then the state is stale and no returns are sent")
+        ->capture_default_str();
+    cmd->add_option("--max-jump-m", o->max_jump_m,
+                    "Reject positions further than this from the predicted one")
+        ->capture_default_str();
+    cmd->add_option("--pipeline-delay-us", o->pipeline_delay_us,
+                    "Packets leave at firing time + this (room to render a packet)")
+        ->capture_default_str();
+    cmd->add_option("--first-nav-timeout", o->first_nav_timeout_s,
+                    "Seconds to wait for the first full pose before failing")
+        ->capture_default_str();
+    cmd->add_option("--undulation", o->undulation_m,
+                    "Geoid height added to heights an INS reports above MSL")
+        ->capture_default_str();
+    cmd->add_option("--nav-origin", o->nav_origin,
+                    "lat,lon,h of the scene origin (local tangent plane), for scenes without a "
+                    "UTM/UPS georeference")
+        ->delimiter(',');
+    cmd->add_option("--fake-ins", o->fake_ins,
+                    "Also run a fake INS in this process on the --nav transport, following this "
+                    "trajectory (for memory: CAN buses and demos)");
+    cmd->add_option("--fake-ins-rate", o->fake_ins_rate, "Fake INS epochs per second")
+        ->capture_default_str();
+    cmd->add_flag("--no-status", o->no_status, "No status line");
+    cmd->add_option("--rt-priority", o->rt_priority, "SCHED_FIFO priority of the sending thread")
+        ->check(CLI::Range(0, 99));
+    cmd->callback([o] {
+        JobInputs in = o->job;
+        in.trajectory = "static:0,0,0";
+        in.duration = "1";
+        Job job = load_job(in);
+        prepare_sensor(job, o->wire, o->rpm);
+        const bool ouster = is_ouster(job.sensor.name);
+        const navpose::NavFrame frame = make_frame(job, o->nav_origin);
+        const NavUri uri = parse_nav_uri(o->nav);
+
+        navpose::PoseBufferConfig pc;
+        pc.max_extrapolation = core::Nanos(static_cast<std::int64_t>(o->max_extrapolation_ms * 1e6));
+        pc.max_jump_m = o->max_jump_m;
+        navpose::PoseBuffer poses(pc);
+        const auto& stop = install_stop_signal();
+
+        // In-process fake INS (memory buses, demos): opened before the reader so no frame is lost.
+        std::unique_ptr<core::Trajectory> fake_traj;
+        std::unique_ptr<can::CanBus> fake_bus;
+        std::unique_ptr<bytestream::ByteStream> fake_stream;
+        std::thread fake_thread;
+        std::atomic<bool> fake_stop{false};
+        if (!o->fake_ins.empty()) {
+            JobInputs fi = in;
+            fi.trajectory = o->fake_ins;
+            fi.duration.clear();
+            fake_traj = std::make_unique<core::Trajectory>(
+                load_job_with_scene(fi, job.scene, 0, false).trajectory);
+            if (is_can(uri.protocol))
+                fake_bus = can::open_can_bus(uri.transport);
+            else
+                throw ConfigError("live: --fake-ins runs in-process on CAN buses (e.g. "
+                                  "oxts-can:memory:x); for serial/UDP run `mirage fake-ins`");
+        }
+        NavInput nav(uri, frame, poses, o->undulation_m);
+        nav.start();
+        if (fake_traj) {
+            FakeInsConfig fc;
+            fc.protocol = uri.protocol;
+            fc.rate_hz = o->fake_ins_rate;
+            fake_thread = std::thread([&, frame, fc] {
+                FakeIns ins(*fake_traj, frame, fc);
+                ins.run(nullptr, fake_bus.get(), gps_now_ms(), fake_stop);
+            });
+        }
+        struct JoinFake {
+            std::atomic<bool>& s;
+            std::thread& t;
+            ~JoinFake() {
+                s = true;
+                if (t.joinable()) t.join();
+            }
+        } join_fake{fake_stop, fake_thread};
+
+        std::fprintf(stderr, "mirage live: %s %s, waiting for navigation on %s\n",
+                     ouster ? "ouster" : "velodyne", job.sensor.name.c_str(), o->nav.c_str());
+        const auto deadline = std::chrono::steady_clock::now() +
+                              std::chrono::milliseconds(static_cast<int>(o->first_nav_timeout_s * 1e3));
+        std::optional<core::GpsTime> first;
+        while (!stop.load() && !(first = poses.newest())) {
+            if (std::chrono::steady_clock::now() > deadline) {
+                const auto c = nav.counters();
+                const auto d = nav.decode_counters();
+                throw IoError(fmt::format(
+                    "live: no full pose (position + attitude + time) from '{}' within {} s "
+                    "(samples {}, without time {}, rejected {}, bytes skipped {})",
+                    o->nav, o->first_nav_timeout_s, c.samples, c.no_time,
+                    c.decode_rejected + c.pose_rejected, d.garbage_bytes));
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        if (stop.load()) return;
+        // Pulse 0 fires 20 ms after the newest pose (whole ms): the first windows interpolate.
+        const std::int64_t t0 = (first->time_since_epoch().count() / 1'000'000 + 20) * 1'000'000;
+        job.options.start = core::GpsTime(core::Nanos(t0));
+
+        PacketOutputOptions po;
+        po.realtime = true;
+        po.status_line = false;
+        po.fifo_priority = o->rt_priority;
+        po.pcap_path = o->pcap;
+        udp::StreamPorts ports;
+        ports.data = o->data_port ? o->data_port : (ouster ? 7502 : 2368);
+        ports.position = ouster ? 0 : o->position_port;
+        ports.imu = ouster ? o->imu_port : 0;
+        po.pcap_source_ports = {ports.data, ports.position, ports.imu};
+        po.pcap_dest_ports = ports;
+        if (!o->to.empty()) {
+            udp::SenderConfig sc;
+            sc.host = o->to;
+            sc.ports = ports;
+            po.udp = sc;
+        }
+        WireOptions wo = o->wire;
+        wo.position_packets = ports.position != 0;
+        wo.imu_packets = ports.imu != 0;
+        std::optional<PacketOutput> out;
+        std::uint64_t packets = 0, bytes = 0;
+        std::int64_t first_send = 0;
+        WireSetup w = make_wire(
+            job, wo,
+            [&](const wire::PacketView& p) {
+                (*out)(p);
+                ++packets;
+                bytes += p.bytes.size();
+                if (first_send == 0 && p.stream == wire::Stream::Data)
+                    first_send = udp::Pacer::monotonic_ns();
+            },
+            o->to);
+        out.emplace(po);
+        const core::Nanos delay(static_cast<std::int64_t>(o->pipeline_delay_us * 1e3));
+        out->anchor(job.options.start,
+                    t0 + nav.offset_ns().value_or(0) + delay.count());
+
+        LiveOptions lo;
+        lo.pipeline_delay = delay;
+        lo.status_line = !o->no_status;
+        if (!o->duration.empty()) lo.duration = parse_seconds(o->duration, "--duration");
+        const std::size_t window = pulses_per_packet(job, w.packets_per_second);
+        std::fprintf(stderr, "mirage live: first pose at gps:%.3f; pulse 0 at gps:%.3f; %zu pulses "
+                             "per window -> %s\n",
+                     double(first->time_since_epoch().count()) / 1e9, double(t0) / 1e9, window,
+                     o->to.empty() ? "(no network)" : fmt::format("{}:{}", o->to, ports.data).c_str());
+        LiveTotals t = run_live(job, *w.packetizer, *out, window, nav, poses, lo, stop, packets,
+                                bytes, first_send);
+        w.packetizer->finish();
+        const PacketOutputTotals pt = out->finish();
+        nav.stop();
+        const auto nc = nav.counters();
+        const auto dc = nav.decode_counters();
+        const auto pbc = poses.counters();
+        std::printf(
+            "mirage live: %llu packets (%.2f MB) in %.3f s, %llu points; windows %llu, stale "
+            "windows %llu in %llu periods; nav samples %llu applied %llu, decode rejected %llu "
+            "(bad checksum %llu, truncated %llu, invalid %llu), pose rejected %llu (time "
+            "backwards %llu, jumps %llu, not finite %llu), without time %llu; INS->packet "
+            "latency p50 %.3f ms p99 %.3f ms max %.3f ms (%llu messages); packet lateness p99 "
+            "%.0f µs, late %llu, failed sends %llu\n",
+            static_cast<unsigned long long>(t.packets), double(t.bytes) / 1e6, t.seconds,
+            static_cast<unsigned long long>(t.points), static_cast<unsigned long long>(t.windows),
+            static_cast<unsigned long long>(t.stale_windows),
+            static_cast<unsigned long long>(t.stale_periods),
+            static_cast<unsigned long long>(nc.samples), static_cast<unsigned long long>(nc.applied),
+            static_cast<unsigned long long>(nc.decode_rejected),
+            static_cast<unsigned long long>(dc.bad_checksum),
+            static_cast<unsigned long long>(dc.truncated),
+            static_cast<unsigned long long>(dc.invalid_field),
+            static_cast<unsigned long long>(nc.pose_rejected),
+            static_cast<unsigned long long>(pbc.time_backwards),
+            static_cast<unsigned long long>(pbc.position_jumps),
+            static_cast<unsigned long long>(pbc.not_finite),
+            static_cast<unsigned long long>(nc.no_time),
+            double(t.latency.percentile(0.5).count()) / 1e6,
+            double(t.latency.percentile(0.99).count()) / 1e6,
+            double(t.latency.worst().count()) / 1e6,
+            static_cast<unsigned long long>(t.latency.count()), double(pt.p99.count()) / 1e3,
+            static_cast<unsigned long long>(pt.late),
+            static_cast<unsigned long long>(pt.send_failed));
+        std::fflush(stdout);
+    });
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "fake_ins.hpp"
+
+#include <time.h>
+
+#include <chrono>
+
+#include "mirage/bytestream/byte_stream.hpp"
+#include "mirage/can/can_bus.hpp"
+
+namespace mirage::hil {
+
+core::GpsTime gps_now_ms() {
+    const std::int64_t unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                     std::chrono::system_clock::now().time_since_epoch())
+                                     .count();
+    return core::gps_from_unix_ns(unix_ns / 1'000'000 * 1'000'000);
+}
+
+FakeIns::FakeIns(const core::Trajectory& trajectory, navpose::NavFrame frame,
+                 FakeInsConfig config)
+    : traj_(trajectory), frame_(frame), cfg_(config) {}
+
+nav::NavSample FakeIns::sample_at(core::GpsTime t, core::GpsTime t0) const {
+    const core::GpsTime tt = traj_.begin() + (t - t0);
+    const core::Pose p = traj_.at(tt);
+    // Velocity by a central difference over ±5 ms (the trajectory has no velocity of its own).
+    const core::Nanos h(5'000'000);
+    const Eigen::Vector3d v = (traj_.at(tt + h).position - traj_.at(tt - h).position) / 0.01;
+    nav::NavSample s = frame_.sample(p, v);
+    s.t = t;
+    s.fields |= nav::NavSample::kTime;
+    s.quality = nav::FixQuality::RtkFixed;
+    s.satellites = 14;
+    return s;
+}
+
+FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, core::GpsTime t0,
+                           const std::atomic<bool>& stop) {
+    FakeInsTotals tot;
+    auto encoder = make_nav_encoder(cfg_.protocol, cfg_.rate_hz);
+    const std::int64_t period_ns = static_cast<std::int64_t>(1e9 / cfg_.rate_hz + 0.5);
+    for (std::uint64_t i = 0; !stop.load(); ++i) {
+        const core::GpsTime t = t0 + core::Nanos(static_cast<std::int64_t>(i) * period_ns);
+        if (cfg_.duration.count() > 0 && t - t0 > cfg_.duration) break;
+        const std::int64_t unix_ns = core::unix_ns_from_gps(t);
+        timespec ts{static_cast<time_t>(unix_ns / 1'000'000'000),
+                    static_cast<long>(unix_ns % 1'000'000'000)};
+        while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+        }
+        const nav::NavSample s = sample_at(t, t0);
+        if (stream) {
+            const auto bytes = encoder->encode_bytes(s, i);
+            if (!stream->write(bytes)) ++tot.write_failures;
+            tot.bytes += bytes.size();
+            ++tot.messages;
+        } else if (bus) {
+            for (const auto& f : encoder->encode_frames(s, i)) {
+                if (!bus->send(f)) ++tot.write_failures;
+                ++tot.messages;
+                tot.bytes += f.len;
+            }
+        }
+        ++tot.epochs;
+    }
+    return tot;
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <atomic>
+#include <cstdint>
+
+#include "mirage/core/trajectory.hpp"
+#include "mirage/navpose/nav_frame.hpp"
+#include "nav_codec.hpp"
+
+namespace mirage::bytestream {
+class ByteStream;
+}
+namespace mirage::can {
+class CanBus;
+}
+
+namespace mirage::hil {
+
+struct FakeInsConfig {
+    NavProtocol protocol = NavProtocol::Nmea;
+    double rate_hz = 100.0;
+    core::Nanos duration{0};  // 0: the trajectory's span (held at its end pose afterwards: forever
+                              // for a static pose) — until stopped
+};
+
+struct FakeInsTotals {
+    std::uint64_t epochs = 0, messages = 0, bytes = 0, write_failures = 0;
+};
+
+// A perfect INS following a scripted trajectory in real time: at each epoch, the pose at
+// trajectory time begin() + (t − t0) becomes the protocol's messages, stamped with GPS time t
+// and written when the host clock (CLOCK_REALTIME, as GPS via the leap-second table) reaches t.
+class FakeIns {
+  public:
+    FakeIns(const core::Trajectory& trajectory, navpose::NavFrame frame, FakeInsConfig config);
+    // Exactly one of `stream` / `bus`. Returns when the duration is over or `stop` is set.
+    FakeInsTotals run(bytestream::ByteStream* stream, can::CanBus* bus, core::GpsTime t0,
+                      const std::atomic<bool>& stop);
+    // The sample sent at GPS time t (for tests: the truth).
+    nav::NavSample sample_at(core::GpsTime t, core::GpsTime t0) const;
+
+  private:
+    const core::Trajectory& traj_;
+    navpose::NavFrame frame_;
+    FakeInsConfig cfg_;
+};
+
+// GPS time now from the host's CLOCK_REALTIME, rounded down to whole milliseconds.
+core::GpsTime gps_now_ms();
+
+}  // namespace mirage::hil

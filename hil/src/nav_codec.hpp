@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mirage/nav/can_frame.hpp"
+#include "mirage/nav/decode_counters.hpp"
+#include "mirage/nav/nav_sample.hpp"
+
+namespace mirage::hil {
+
+// The navigation protocols `mirage live` reads and `mirage fake-ins` writes.
+enum class NavProtocol : std::uint8_t { Nmea, Novatel, Ncom, OxtsCan, SbgCan };
+
+NavProtocol parse_nav_protocol(const std::string& name);  // throws ConfigError
+std::string to_string(NavProtocol p);
+inline bool is_can(NavProtocol p) { return p == NavProtocol::OxtsCan || p == NavProtocol::SbgCan; }
+
+// `--nav` URI: "<protocol>:<transport>", e.g. nmea:/dev/ttyUSB0?baud=115200,
+// novatel:tcp://host:port, ncom:udp://:3000, oxts-can:socketcan:can0, sbg-can:slcan:/dev/ttyACM0,
+// oxts-can:gsusb:1d50:606f, oxts-can:memory:bench.
+struct NavUri {
+    NavProtocol protocol = NavProtocol::Nmea;
+    std::string transport;  // a ByteStream URI, or a CanBus spec for the CAN protocols
+};
+NavUri parse_nav_uri(const std::string& uri);  // throws ConfigError naming the URI
+
+// One protocol's incremental decoder behind one interface: bytes (serial, TCP), whole datagrams
+// (UDP) or CAN frames.
+class NavDecoder {
+  public:
+    virtual ~NavDecoder() = default;
+    virtual void feed_bytes(std::span<const std::uint8_t> bytes, const nav::SampleFn& fn) = 0;
+    virtual void feed_datagram(std::span<const std::uint8_t> datagram, const nav::SampleFn& fn) {
+        feed_bytes(datagram, fn);
+    }
+    virtual void feed_frame(const nav::CanFrame& frame, const nav::SampleFn& fn) = 0;
+    virtual nav::DecodeCounters counters() const = 0;
+};
+std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p);
+
+// The fake INS's encoder: one epoch of a perfect INS (`s` has time, position, attitude,
+// velocity) as the bytes or CAN frames the protocol sends for it. `epoch` counts from 0 so
+// encoders can send slower messages every n-th epoch (e.g. NMEA RMC/ZDA at 1 Hz).
+class NavEncoder {
+  public:
+    virtual ~NavEncoder() = default;
+    virtual std::vector<std::uint8_t> encode_bytes(const nav::NavSample& s, std::uint64_t epoch) = 0;
+    virtual std::vector<nav::CanFrame> encode_frames(const nav::NavSample& s, std::uint64_t epoch) = 0;
+};
+// `rate_hz`: the epoch rate, so 1 Hz messages can be spaced.
+std::unique_ptr<NavEncoder> make_nav_encoder(NavProtocol p, double rate_hz);
+
+}  // namespace mirage::hil

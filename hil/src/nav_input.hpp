@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "mirage/navpose/nav_frame.hpp"
+#include "mirage/navpose/pose_buffer.hpp"
+#include "nav_codec.hpp"
+
+namespace mirage::bytestream {
+class ByteStream;
+}
+namespace mirage::can {
+class CanBus;
+}
+
+namespace mirage::hil {
+
+struct NavInputCounters {
+    std::uint64_t samples = 0;         // NavSamples decoded
+    std::uint64_t applied = 0;         // samples that updated the pose buffer
+    std::uint64_t decode_rejected = 0; // bad checksums, truncated frames, bad fields
+    std::uint64_t pose_rejected = 0;   // NaN, time backwards, position jumps
+    std::uint64_t no_time = 0;         // samples without a full time (e.g. NMEA before a date)
+    std::uint64_t transport_closed = 0;
+    std::uint64_t error_frames = 0;    // CAN
+};
+
+// Reads one navigation source on its own thread: transport -> decoder -> scene frame -> pose
+// buffer. Tracks the offset between INS time and the host's CLOCK_MONOTONIC as the lower
+// envelope of (arrival − INS time) (nav-protocols.md §12.3 item 3), and records arrival times
+// for the INS-to-packet latency figure.
+class NavInput {
+  public:
+    NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+             double undulation_m);  // throws ConfigError / IoError when the transport won't open
+    ~NavInput();
+    NavInput(const NavInput&) = delete;
+    NavInput& operator=(const NavInput&) = delete;
+
+    void start();
+    void stop();
+
+    // host CLOCK_MONOTONIC ns − INS GPS ns (lower envelope); nullopt before the first sample.
+    std::optional<std::int64_t> offset_ns() const;
+    NavInputCounters counters() const;
+    nav::DecodeCounters decode_counters() const;
+    // Arrival times (host monotonic ns) of applied samples not yet taken, oldest first.
+    std::deque<std::int64_t> take_arrivals();
+
+  private:
+    void run();
+    void on_sample(const nav::NavSample& s, std::int64_t host_ns);
+
+    NavUri uri_;
+    navpose::NavFrame frame_;
+    navpose::PoseBuffer& poses_;
+    double undulation_m_;
+    std::unique_ptr<NavDecoder> decoder_;
+    std::unique_ptr<bytestream::ByteStream> stream_;
+    std::unique_ptr<can::CanBus> bus_;
+    bool datagrams_ = false;
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+    mutable std::mutex mu_;
+    NavInputCounters counters_;
+    nav::DecodeCounters decode_counters_;
+    std::optional<std::int64_t> offset_;
+    std::int64_t offset_block_min_ = 0;
+    std::int64_t prev_block_min_ = 0;
+    double last_lat_ = 0, last_lon_ = 0;  // for the convergence of attitude-only messages
+    bool have_latlon_ = false;
+    std::int64_t offset_block_start_ = 0;
+    std::deque<std::int64_t> arrivals_;
+};
+
+}  // namespace mirage::hil
