@@ -21,6 +21,8 @@ struct StreamCounters {
     std::uint64_t reads = 0;
     std::uint64_t write_failures = 0;
     std::uint64_t reopens = 0;  // successful reopen after the device vanished or the peer left
+    std::uint64_t closes = 0;   // times the device vanished or the peer left (read/write saw it)
+    std::uint64_t reopen_failures = 0;  // reopen attempts that failed (then backoff doubles)
 };
 
 // A byte stream from a navigation source or to a device: a serial port (or pty), a TCP client,
@@ -38,6 +40,8 @@ class ByteStream {
     virtual bool write(std::span<const std::uint8_t> bytes) = 0;
     virtual StreamCounters counters() const = 0;
     virtual std::string name() const = 0;
+    // The local port of a TCP/UDP socket (what `udp://:0` bound to); 0 for serial ports.
+    virtual std::uint16_t local_port() const { return 0; }
 };
 
 // Transport URIs (README "Navigation input"):
@@ -47,10 +51,21 @@ class ByteStream {
 //   udp://[bind-host]:port                                 UDP receiver (port 0: ephemeral)
 //   udp://host:port?send                                   UDP sender
 // Throws ConfigError on a malformed URI, IoError if the first open fails.
+// Serial defaults: baud 115200, bits 8, parity none (also even/odd), stop 1 (or 2).
 std::unique_ptr<ByteStream> open_byte_stream(const std::string& uri);
 
+// Reopen backoff after a device vanished or a peer left: 100 ms, doubling, capped at 5 s.
+inline constexpr std::chrono::milliseconds kReopenBackoffFirst{100};
+inline constexpr std::chrono::milliseconds kReopenBackoffMax{5000};
+
+// CLOCK_MONOTONIC now, in ns (the clock of `host_ns`).
+std::int64_t monotonic_ns();
+
 // A pseudo-terminal pair for tests and the fake INS: the master end as a ByteStream, and the
-// path of the slave end ("/dev/pts/N") that a reader opens like a serial port.
+// path of the slave end ("/dev/pts/N") that a reader opens like a serial port. Both ends are
+// raw. The master keeps a slave descriptor of its own open, so it never sees a hang-up while
+// readers come and go, and bytes written before a reader opens the slave wait for it.
+// Destroying `master` removes the pair (readers then see Closed). Throws IoError.
 struct Pty {
     std::unique_ptr<ByteStream> master;
     std::string slave_path;
