@@ -164,11 +164,13 @@ void register_fake_ins(CLI::App& app) {
         const auto& stop = install_stop_signal();
         FakeIns ins(job.trajectory, frame, fc);
         const FakeInsTotals t = ins.run(stream.get(), bus.get(), t0, stop);
-        std::printf("fake-ins: %llu epochs, %llu messages, %llu bytes, %llu failed writes\n",
+        std::printf("fake-ins: %llu epochs, %llu messages, %llu bytes, %llu failed writes, %llu "
+                    "epochs skipped behind a blocked output\n",
                     static_cast<unsigned long long>(t.epochs),
                     static_cast<unsigned long long>(t.messages),
                     static_cast<unsigned long long>(t.bytes),
-                    static_cast<unsigned long long>(t.write_failures));
+                    static_cast<unsigned long long>(t.write_failures),
+                    static_cast<unsigned long long>(t.skipped));
     });
 }
 

@@ -54,7 +54,7 @@ void register_live(CLI::App& app) {
         double rpm = 0;
         std::string pcap;
         std::string duration;
-        double max_extrapolation_ms = 50, max_jump_m = 20, pipeline_delay_us = 500;
+        double max_extrapolation_ms = 50, max_jump_m = 20, pipeline_delay_us = 250;
         double first_nav_timeout_s = 10, undulation_m = 0;
         std::vector<double> nav_origin;
         std::string fake_ins;
@@ -151,9 +151,15 @@ void register_live(CLI::App& app) {
             FakeInsConfig fc;
             fc.protocol = uri.protocol;
             fc.rate_hz = o->fake_ins_rate;
-            fake_thread = std::thread([&, frame, fc] {
+            const core::GpsTime fake_t0 = gps_now_ms() + std::chrono::milliseconds(200);
+            std::printf("fake-ins: %s in-process on %s t0 gps:%lld.%09lld\n",
+                        to_string(uri.protocol).c_str(), uri.transport.c_str(),
+                        static_cast<long long>(fake_t0.time_since_epoch().count() / 1'000'000'000),
+                        static_cast<long long>(fake_t0.time_since_epoch().count() % 1'000'000'000));
+            std::fflush(stdout);
+            fake_thread = std::thread([&, frame, fc, fake_t0] {
                 FakeIns ins(*fake_traj, frame, fc);
-                ins.run(nullptr, fake_bus.get(), gps_now_ms(), fake_stop);
+                ins.run(nullptr, fake_bus.get(), fake_t0, fake_stop);
             });
         }
         struct JoinFake {
@@ -165,8 +171,10 @@ void register_live(CLI::App& app) {
             }
         } join_fake{fake_stop, fake_thread};
 
-        std::fprintf(stderr, "mirage live: %s %s, waiting for navigation on %s\n",
-                     ouster ? "ouster" : "velodyne", job.sensor.name.c_str(), o->nav.c_str());
+        std::fprintf(stderr, "mirage live: %s %s, waiting for navigation on %s%s\n",
+                     ouster ? "ouster" : "velodyne", job.sensor.name.c_str(), o->nav.c_str(),
+                     nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
+        std::fflush(stderr);
         const auto deadline = std::chrono::steady_clock::now() +
                               std::chrono::milliseconds(static_cast<int>(o->first_nav_timeout_s * 1e3));
         std::optional<core::GpsTime> first;
@@ -183,8 +191,12 @@ void register_live(CLI::App& app) {
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
         if (stop.load()) return;
-        // Pulse 0 fires 20 ms after the newest pose (whole ms): the first windows interpolate.
-        const std::int64_t t0 = (first->time_since_epoch().count() / 1'000'000 + 20) * 1'000'000;
+        // A serial line may hold a backlog of old messages: let it drain so the INS-to-host
+        // offset (lower envelope of arrival − INS time) settles on messages arriving live, then
+        // fire pulse 0 at the present INS time + 20 ms (whole ms).
+        std::this_thread::sleep_for(std::chrono::milliseconds(250));
+        const std::int64_t ins_now = udp::Pacer::monotonic_ns() - nav.offset_ns().value_or(0);
+        const std::int64_t t0 = (ins_now / 1'000'000 + 20) * 1'000'000;
         job.options.start = core::GpsTime(core::Nanos(t0));
 
         PacketOutputOptions po;
@@ -234,6 +246,7 @@ void register_live(CLI::App& app) {
                              "per window -> %s\n",
                      double(first->time_since_epoch().count()) / 1e9, double(t0) / 1e9, window,
                      o->to.empty() ? "(no network)" : fmt::format("{}:{}", o->to, ports.data).c_str());
+        (void)nav.take_arrivals();  // the backlog before pulse 0 is not latency
         LiveTotals t = run_live(job, *w.packetizer, *out, window, nav, poses, lo, stop, packets,
                                 bytes, first_send);
         w.packetizer->finish();

@@ -48,6 +48,14 @@ FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, cor
                     static_cast<long>(unix_ns % 1'000'000'000)};
         while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
         }
+        // A blocked writer (a pty nobody reads fills up) must not stretch the schedule: epochs
+        // already 100 ms past are skipped, as an INS does not queue old solutions.
+        timespec now{};
+        clock_gettime(CLOCK_REALTIME, &now);
+        if (std::int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec > unix_ns + 100'000'000) {
+            ++tot.skipped;
+            continue;
+        }
         const nav::NavSample s = sample_at(t, t0);
         if (stream) {
             const auto bytes = encoder->encode_bytes(s, i);

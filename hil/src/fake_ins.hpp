@@ -25,6 +25,7 @@ struct FakeInsConfig {
 
 struct FakeInsTotals {
     std::uint64_t epochs = 0, messages = 0, bytes = 0, write_failures = 0;
+    std::uint64_t skipped = 0;  // epochs dropped because the output had blocked past them
 };
 
 // A perfect INS following a scripted trajectory in real time: at each epoch, the pose at

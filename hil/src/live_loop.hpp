@@ -15,7 +15,7 @@ namespace mirage::hil {
 struct LiveOptions {
     // Packets leave at their firing time + this, on the host clock mapped from INS time: room
     // to render a window after its last firing.
-    core::Nanos pipeline_delay{std::chrono::microseconds(500)};
+    core::Nanos pipeline_delay{std::chrono::microseconds(250)};
     core::Nanos duration{0};  // 0: until stopped
     bool status_line = true;
 };

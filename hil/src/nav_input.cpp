@@ -13,6 +13,11 @@ namespace {
 constexpr std::int64_t kOffsetBlockNs = 10'000'000'000;  // lower envelope over 10-20 s
 constexpr auto kPoll = std::chrono::milliseconds(50);
 
+void tally(navpose::AddStatus st, bool& applied, bool& rejected) {
+    if (st == navpose::AddStatus::Accepted) applied = true;
+    else if (st != navpose::AddStatus::Duplicate) rejected = true;
+}
+
 }  // namespace
 
 NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
@@ -110,8 +115,7 @@ void NavInput::on_sample(const nav::NavSample& s, std::int64_t host_ns) {
         const Eigen::Vector3d local = frame_.local_from_geodetic(s.lat_deg, s.lon_deg, h);
         std::optional<Eigen::Vector3d> v;
         if (s.has(F::kVelocity)) v = frame_.local_velocity(s.velocity_ned_mps, s.lat_deg, s.lon_deg);
-        (poses_.add_position(s.t, local, v) == navpose::AddStatus::Accepted ? applied : rejected) =
-            true;
+        tally(poses_.add_position(s.t, local, v), applied, rejected);
     }
     if (s.has(F::kAttitude)) {
         if (!have_latlon_) {
@@ -121,7 +125,7 @@ void NavInput::on_sample(const nav::NavSample& s, std::int64_t host_ns) {
         }
         const Eigen::Quaterniond q =
             frame_.local_attitude(s.roll_rad, s.pitch_rad, s.heading_rad, last_lat_, last_lon_);
-        (poses_.add_attitude(s.t, q) == navpose::AddStatus::Accepted ? applied : rejected) = true;
+        tally(poses_.add_attitude(s.t, q), applied, rejected);
     }
     std::lock_guard lk(mu_);
     if (rejected) ++counters_.pose_rejected;
@@ -159,6 +163,8 @@ nav::DecodeCounters NavInput::decode_counters() const {
     std::lock_guard lk(mu_);
     return decode_counters_;
 }
+
+std::uint16_t NavInput::udp_port() const { return stream_ && datagrams_ ? stream_->local_port() : 0; }
 
 std::deque<std::int64_t> NavInput::take_arrivals() {
     std::lock_guard lk(mu_);

@@ -51,6 +51,8 @@ class NavInput {
     std::optional<std::int64_t> offset_ns() const;
     NavInputCounters counters() const;
     nav::DecodeCounters decode_counters() const;
+    // The local UDP port a udp:// transport bound (0 otherwise): `udp://127.0.0.1:0` picks one.
+    std::uint16_t udp_port() const;
     // Arrival times (host monotonic ns) of applied samples not yet taken, oldest first.
     std::deque<std::int64_t> take_arrivals();
 

@@ -66,14 +66,16 @@ TEST(PoseBuffer, rejects_and_counts_bad_samples_without_applying_them) {
     EXPECT_EQ(b.add_attitude(T(0), Eigen::Quaterniond(nan, 0, 0, 0)), AddStatus::NotFinite);
     EXPECT_EQ(b.add_position(T(0), {0, 0, 0}), AddStatus::Accepted);
     EXPECT_EQ(b.add_position(T(10), {0.1, 0, 0}), AddStatus::Accepted);
-    EXPECT_EQ(b.add_position(T(10), {0.2, 0, 0}), AddStatus::TimeBackwards);
+    EXPECT_EQ(b.add_position(T(10), {0.2, 0, 0}), AddStatus::Duplicate);  // not counted
     EXPECT_EQ(b.add_position(T(5), {0.2, 0, 0}), AddStatus::TimeBackwards);
+    EXPECT_EQ(b.add_position(T(4), {0.2, 0, 0}), AddStatus::TimeBackwards);
     EXPECT_EQ(b.add_position(T(20), {500, 0, 0}), AddStatus::PositionJump);
     b.add_attitude(T(20), yaw(0));
     EXPECT_NEAR(b.at(T(20)).pose.position.x(), 0.2, 1e-12);  // the jump was not applied
     const auto c = b.counters();
     EXPECT_EQ(c.not_finite, 2u);
     EXPECT_EQ(c.time_backwards, 2u);
+    EXPECT_EQ(c.duplicates, 1u);
     EXPECT_EQ(c.position_jumps, 1u);
     EXPECT_EQ(c.accepted, 3u);
 }

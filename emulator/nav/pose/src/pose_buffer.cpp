@@ -33,7 +33,11 @@ AddStatus PoseBuffer::add_position(core::GpsTime t, const Eigen::Vector3d& local
     }
     if (!pos_.empty()) {
         const PosSample& b = pos_.back();
-        if (t <= b.t) {
+        if (t == b.t) {
+            ++counters_.duplicates;
+            return AddStatus::Duplicate;
+        }
+        if (t < b.t) {
             ++counters_.time_backwards;
             return AddStatus::TimeBackwards;
         }
@@ -62,7 +66,11 @@ AddStatus PoseBuffer::add_attitude(core::GpsTime t, const Eigen::Quaterniond& at
         ++counters_.not_finite;
         return AddStatus::NotFinite;
     }
-    if (!att_.empty() && t <= att_.back().t) {
+    if (!att_.empty() && t == att_.back().t) {
+        ++counters_.duplicates;
+        return AddStatus::Duplicate;
+    }
+    if (!att_.empty() && t < att_.back().t) {
         ++counters_.time_backwards;
         return AddStatus::TimeBackwards;
     }

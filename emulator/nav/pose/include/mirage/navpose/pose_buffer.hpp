@@ -24,7 +24,9 @@ struct PoseBufferConfig {
 enum class AddStatus : std::uint8_t {
     Accepted,
     NotFinite,      // NaN / Inf in position or attitude
-    TimeBackwards,  // older than or equal to the newest sample of its track
+    Duplicate,      // same time as the newest sample of its track (another log of the same
+                    // epoch): ignored, not an error
+    TimeBackwards,  // older than the newest sample of its track
     PositionJump,   // beyond max_jump_m of the prediction
 };
 
@@ -38,6 +40,7 @@ enum class PoseStatus : std::uint8_t {
 struct PoseBufferCounters {
     std::uint64_t accepted = 0;
     std::uint64_t not_finite = 0;
+    std::uint64_t duplicates = 0;
     std::uint64_t time_backwards = 0;
     std::uint64_t position_jumps = 0;
 };
