@@ -97,6 +97,9 @@ void register_fake_ins(CLI::App& app) {
         std::string to = "pty";
         double rate = 100;
         std::string duration;
+        std::vector<std::string> silence;
+        std::string jump_at, backwards_at, nan_at;
+        std::uint64_t corrupt_every = 0;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--trajectory", o->job.trajectory,
@@ -113,6 +116,16 @@ void register_fake_ins(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--rate", o->rate, "Epochs per second")->capture_default_str();
     cmd->add_option("--duration", o->duration, "Seconds to run (default: until Ctrl-C)");
+    cmd->add_option("--silence", o->silence,
+                    "Fault: no messages from S for L seconds after the start (S,L)")
+        ->delimiter(',')
+        ->expected(2);
+    cmd->add_option("--jump-at", o->jump_at, "Fault: one epoch's position 100 m off at S seconds");
+    cmd->add_option("--backwards-at", o->backwards_at,
+                    "Fault: one epoch stamped 1 s in the past at S seconds");
+    cmd->add_option("--nan-at", o->nan_at, "Fault: one epoch with a NaN latitude at S seconds");
+    cmd->add_option("--corrupt-every", o->corrupt_every,
+                    "Fault: flip a byte in every N-th message (serial/UDP protocols)");
     cmd->callback([o] {
         const NavProtocol proto = parse_nav_protocol(o->protocol);
         if (!(o->rate > 0 && o->rate <= 1000))
@@ -126,6 +139,15 @@ void register_fake_ins(CLI::App& app) {
         fc.protocol = proto;
         fc.rate_hz = o->rate;
         if (!o->duration.empty()) fc.duration = parse_seconds(o->duration, "--duration");
+        if (!o->silence.empty()) {
+            fc.faults.silence_at = parse_seconds(o->silence[0], "--silence");
+            fc.faults.silence_for = parse_seconds(o->silence[1], "--silence");
+        }
+        if (!o->jump_at.empty()) fc.faults.jump_at = parse_seconds(o->jump_at, "--jump-at");
+        if (!o->backwards_at.empty())
+            fc.faults.backwards_at = parse_seconds(o->backwards_at, "--backwards-at");
+        if (!o->nan_at.empty()) fc.faults.nan_at = parse_seconds(o->nan_at, "--nan-at");
+        fc.faults.corrupt_every = o->corrupt_every;
 
         std::unique_ptr<bytestream::ByteStream> stream;
         std::unique_ptr<can::CanBus> bus;
@@ -156,7 +178,7 @@ void register_fake_ins(CLI::App& app) {
             bus = can::open_can_bus(to);
             where = to;
         }
-        const core::GpsTime t0 = gps_now_ms() + std::chrono::milliseconds(200);
+        const core::GpsTime t0 = fake_ins_start(o->rate, std::chrono::milliseconds(200));
         std::printf("fake-ins: %s on %s t0 gps:%lld.%09lld\n", o->protocol.c_str(), where.c_str(),
                     static_cast<long long>(t0.time_since_epoch().count() / 1'000'000'000),
                     static_cast<long long>(t0.time_since_epoch().count() % 1'000'000'000));
@@ -171,6 +193,13 @@ void register_fake_ins(CLI::App& app) {
                     static_cast<unsigned long long>(t.bytes),
                     static_cast<unsigned long long>(t.write_failures),
                     static_cast<unsigned long long>(t.skipped));
+        std::printf("fake-ins: faults: %llu epochs silenced, %llu jumps, %llu backwards, %llu NaN, "
+                    "%llu corrupted messages\n",
+                    static_cast<unsigned long long>(t.silenced),
+                    static_cast<unsigned long long>(t.jumps),
+                    static_cast<unsigned long long>(t.backwards),
+                    static_cast<unsigned long long>(t.nans),
+                    static_cast<unsigned long long>(t.corrupted));
     });
 }
 

@@ -151,7 +151,8 @@ void register_live(CLI::App& app) {
             FakeInsConfig fc;
             fc.protocol = uri.protocol;
             fc.rate_hz = o->fake_ins_rate;
-            const core::GpsTime fake_t0 = gps_now_ms() + std::chrono::milliseconds(200);
+            const core::GpsTime fake_t0 =
+                fake_ins_start(o->fake_ins_rate, std::chrono::milliseconds(200));
             std::printf("fake-ins: %s in-process on %s t0 gps:%lld.%09lld\n",
                         to_string(uri.protocol).c_str(), uri.transport.c_str(),
                         static_cast<long long>(fake_t0.time_since_epoch().count() / 1'000'000'000),

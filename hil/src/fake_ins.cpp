@@ -3,7 +3,10 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
@@ -15,6 +18,12 @@ core::GpsTime gps_now_ms() {
                                      std::chrono::system_clock::now().time_since_epoch())
                                      .count();
     return core::gps_from_unix_ns(unix_ns / 1'000'000 * 1'000'000);
+}
+
+core::GpsTime fake_ins_start(double rate_hz, core::Nanos lead) {
+    const std::int64_t period = std::max<std::int64_t>(1, std::llround(1e9 / rate_hz));
+    const std::int64_t t = (gps_now_ms() + lead).time_since_epoch().count();
+    return core::GpsTime(core::Nanos((t + period - 1) / period * period));
 }
 
 FakeIns::FakeIns(const core::Trajectory& trajectory, navpose::NavFrame frame,
@@ -56,9 +65,35 @@ FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, cor
             ++tot.skipped;
             continue;
         }
-        const nav::NavSample s = sample_at(t, t0);
+        const FakeInsFaults& f = cfg_.faults;
+        const core::Nanos since = t - t0;
+        if (f.silence_for.count() > 0 && since >= f.silence_at &&
+            since < f.silence_at + f.silence_for) {
+            ++tot.silenced;
+            continue;
+        }
+        nav::NavSample s = sample_at(t, t0);
+        const auto hits = [&](core::Nanos at) {
+            return at.count() >= 0 && since >= at && since - at < core::Nanos(period_ns);
+        };
+        if (hits(f.jump_at)) {
+            s.lat_deg += 100.0 / 111'000.0;  // ~100 m north
+            ++tot.jumps;
+        }
+        if (hits(f.backwards_at)) {
+            s.t -= std::chrono::seconds(1);
+            ++tot.backwards;
+        }
+        if (hits(f.nan_at)) {
+            s.lat_deg = std::numeric_limits<double>::quiet_NaN();
+            ++tot.nans;
+        }
         if (stream) {
-            const auto bytes = encoder->encode_bytes(s, i);
+            auto bytes = encoder->encode_bytes(s, i);
+            if (f.corrupt_every > 0 && (i + 1) % f.corrupt_every == 0 && bytes.size() > 8) {
+                bytes[bytes.size() / 2] ^= 0x5A;  // inside the payload: a checksum/CRC mismatch
+                ++tot.corrupted;
+            }
             if (!stream->write(bytes)) ++tot.write_failures;
             tot.bytes += bytes.size();
             ++tot.messages;

@@ -16,16 +16,27 @@ class CanBus;
 
 namespace mirage::hil {
 
+// Faults to inject, for testing what a receiver rejects (times after t0; 0 / negative = off).
+struct FakeInsFaults {
+    core::Nanos silence_at{-1}, silence_for{0};  // no messages in [at, at + for)
+    core::Nanos jump_at{-1};        // one epoch's position 100 m off
+    core::Nanos backwards_at{-1};   // one epoch stamped 1 s in the past
+    core::Nanos nan_at{-1};         // one epoch with a NaN latitude (encoders print/pack it)
+    std::uint64_t corrupt_every = 0;  // byte protocols: flip one byte of every n-th message
+};
+
 struct FakeInsConfig {
     NavProtocol protocol = NavProtocol::Nmea;
     double rate_hz = 100.0;
     core::Nanos duration{0};  // 0: the trajectory's span (held at its end pose afterwards: forever
                               // for a static pose) — until stopped
+    FakeInsFaults faults;
 };
 
 struct FakeInsTotals {
     std::uint64_t epochs = 0, messages = 0, bytes = 0, write_failures = 0;
     std::uint64_t skipped = 0;  // epochs dropped because the output had blocked past them
+    std::uint64_t silenced = 0, jumps = 0, backwards = 0, nans = 0, corrupted = 0;
 };
 
 // A perfect INS following a scripted trajectory in real time: at each epoch, the pose at
@@ -48,5 +59,8 @@ class FakeIns {
 
 // GPS time now from the host's CLOCK_REALTIME, rounded down to whole milliseconds.
 core::GpsTime gps_now_ms();
+// The fake INS's first epoch: `lead` from now, on a whole multiple of the epoch period, so that
+// protocols with coarse time fields (NMEA hhmmss.ss) carry every epoch's time exactly.
+core::GpsTime fake_ins_start(double rate_hz, core::Nanos lead);
 
 }  // namespace mirage::hil
