@@ -31,6 +31,24 @@ PacketOutput::PacketOutput(PacketOutputOptions options)
         pcap_dst_ports_ = opt_.pcap_dest_ports;
     }
     if (!opt_.pcap_path.empty()) pcap_ = std::make_unique<pcap::Writer>(opt_.pcap_path, true);
+    if (sender_ && opt_.realtime && (opt_.use_shared_sender || opt_.shared_sender)) start_shared();
+}
+
+void PacketOutput::start_shared() {
+    auto ss = opt_.shared_sender;
+    if (!ss) {
+        udp::SharedSenderConfig c;
+        c.fifo_priority = opt_.fifo_priority;
+        ss = std::make_shared<udp::SharedSender>(c);
+    }
+    const auto id = ss->open(*sender_);
+    shared_ = std::make_unique<SharedChannel>(ss, id);
+    // The sending thread is the one that needs FIFO: report its state as the output's.
+    totals_.fifo = ss->fifo();
+    totals_.fifo_error = ss->fifo_error();
+    if (ss->config().fifo_priority > 0 && !ss->fifo() && !opt_.shared_sender)
+        std::fprintf(stderr, "packet output: SCHED_FIFO %d not set (%s); pacing without it\n",
+                     ss->config().fifo_priority, totals_.fifo_error.c_str());
 }
 
 void PacketOutput::operator()(const wire::PacketView& packet) {
@@ -38,7 +56,9 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
     if (!started_) {
         started_ = true;
         first_ = last_status_ = last_tick_ = now;
-        if (opt_.realtime && opt_.fifo_priority > 0) {
+        // With a shared sender only its thread runs FIFO: a FIFO writer would take its encoding
+        // bursts from the render workers, which need the CPU more (issue 3 item 9).
+        if (opt_.realtime && opt_.fifo_priority > 0 && !shared_) {
             if (udp::set_realtime_priority(opt_.fifo_priority, totals_.fifo_error)) {
                 totals_.fifo = true;
             } else {
@@ -48,8 +68,15 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
             }
         }
     }
-    if (opt_.realtime) pacer_.wait(packet.time);
-    if (sender_) {
+    if (shared_) {
+        // The sending thread paces; this thread only waits while it is a horizon ahead.
+        if (!pacer_.anchored()) pacer_.anchor(packet.time, udp::Pacer::monotonic_ns());
+        shared_->sender->submit(shared_->id, packet.stream, pacer_.deadline_ns(packet.time),
+                                packet.bytes);
+    } else if (opt_.realtime) {
+        pacer_.wait(packet.time);
+    }
+    if (sender_ && !shared_) {
         if (sender_->send(packet))
             ++totals_.sent;
         else
@@ -88,13 +115,23 @@ void PacketOutput::print_status(bool final) {
     const double dt = std::chrono::duration<double>(now - last_status_).count();
     const double rate = dt > 0 ? double(totals_.packets - packets_at_status_) / dt : 0.0;
     const double mbit = dt > 0 ? 8e-6 * double(totals_.bytes - bytes_at_status_) / dt : 0.0;
-    const auto& st = pacer_.stats();
+    std::uint64_t late = 0, failed = totals_.send_failed;
+    double worst_us = 0;
+    if (shared_) {
+        const auto c = shared_->sender->counters(shared_->id);
+        late = c.late;
+        failed = c.failed;
+        worst_us = double(c.worst.count()) / 1e3;
+    } else {
+        late = pacer_.stats().late();
+        worst_us = double(pacer_.stats().worst().count()) / 1e3;
+    }
     std::fprintf(stderr,
                  "\r%8.1f s  %7.0f packets/s  %7.2f Mbit/s  late %llu  worst %.0f µs  failed "
                  "sends %llu   %s",
                  std::chrono::duration<double>(now - first_).count(), rate, mbit,
-                 static_cast<unsigned long long>(st.late()), double(st.worst().count()) / 1e3,
-                 static_cast<unsigned long long>(totals_.send_failed), final ? "\n" : "");
+                 static_cast<unsigned long long>(late), worst_us,
+                 static_cast<unsigned long long>(failed), final ? "\n" : "");
     std::fflush(stderr);
     status_printed_ = true;
     last_status_ = now;
@@ -103,6 +140,14 @@ void PacketOutput::print_status(bool final) {
 }
 
 PacketOutputTotals PacketOutput::finish() {
+    udp::LatenessHistogram shared_stats;
+    if (shared_) {
+        shared_->sender->flush(shared_->id);  // every packet of this output is on the wire
+        const auto c = shared_->sender->counters(shared_->id);
+        totals_.sent = c.sent;
+        totals_.send_failed = c.failed;
+        shared_stats = shared_->sender->lateness(shared_->id);
+    }
     if (opt_.status_line && started_) {
         if (std::chrono::steady_clock::now() - last_status_ > std::chrono::milliseconds(300))
             print_status(true);
@@ -111,7 +156,7 @@ PacketOutputTotals PacketOutput::finish() {
     }
     if (pcap_) pcap_->close();
     if (!pcap_error_.empty()) throw IoError(pcap_error_);
-    const auto& st = pacer_.stats();
+    const auto& st = shared_ ? shared_stats : pacer_.stats();
     totals_.late = st.late();
     totals_.worst_late = st.worst();
     totals_.p50 = st.percentile(0.50);

@@ -8,6 +8,7 @@
 
 #include "mirage/pcap/writer.hpp"
 #include "mirage/udp/pacer.hpp"
+#include "mirage/udp/shared_sender.hpp"
 #include "mirage/udp/udp_sender.hpp"
 #include "mirage/wire/packet.hpp"
 
@@ -26,6 +27,14 @@ struct PacketOutputOptions {
     // created before, keep the normal policy. (The spin before each deadline stays at the
     // Pacer's 50 µs: timer wake-ups in this VM take ~50 µs even for FIFO threads.)
     int fifo_priority = 0;
+    // Realtime UDP output through one deadline-ordered sending thread (udp::SharedSender) instead
+    // of pacing in the calling thread: the caller then only waits while it is more than the
+    // sender's horizon ahead, and stays SCHED_OTHER. Give `shared_sender` to share one thread
+    // among several outputs (its own config sets FIFO); with use_shared_sender and none given,
+    // the output starts its own, SCHED_FIFO at fifo_priority when > 0.
+    // Ignored without `udp` or `realtime` (a capture alone is paced by the caller as before).
+    bool use_shared_sender = false;
+    std::shared_ptr<udp::SharedSender> shared_sender;
 };
 
 struct PacketOutputTotals {
@@ -56,9 +65,25 @@ class PacketOutput {
   private:
     void tick(std::chrono::steady_clock::time_point now);
     void print_status(bool final);
+    void start_shared();
+
+    // This output's queue in a SharedSender; closing it (destruction) waits for its packets, so
+    // it is declared after, and destroyed before, the UdpSender it sends through.
+    struct SharedChannel {
+        std::shared_ptr<udp::SharedSender> sender;
+        udp::SharedSender::ChannelId id = 0;
+        SharedChannel(std::shared_ptr<udp::SharedSender> s, udp::SharedSender::ChannelId i)
+            : sender(std::move(s)), id(i) {}
+        SharedChannel(const SharedChannel&) = delete;
+        SharedChannel& operator=(const SharedChannel&) = delete;
+        ~SharedChannel() {
+            if (sender) sender->close(id);
+        }
+    };
 
     PacketOutputOptions opt_;
     std::unique_ptr<udp::UdpSender> sender_;
+    std::unique_ptr<SharedChannel> shared_;  // null: paced by pacer_ in the calling thread
     std::unique_ptr<pcap::Writer> pcap_;
     pcap::Endpoint pcap_dst_;
     udp::StreamPorts pcap_dst_ports_;

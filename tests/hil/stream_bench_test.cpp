@@ -43,6 +43,8 @@ TEST(StreamBench, quick_run_streams_three_sensors_and_encoders_outrun_devices) {
         EXPECT_NE(js.find(std::string("{\"name\": \"") + name + "\", \"device_packets_per_s\""),
                   std::string::npos)
             << name;
+    // The default: one shared sending thread for the three streams (issue 3 item 9).
+    EXPECT_NE(js.find("\"sender\": \"shared\""), std::string::npos);
     const auto received = json_numbers(js, "received_data_packets");
     const auto sent = json_numbers(js, "sent_data_packets");
     const auto expected = json_numbers(js, "expected_data_packets");
