@@ -151,7 +151,7 @@ TEST(PcapReader, counts_every_frame_status_and_never_throws) {
     cut.resize(30);
     recs.push_back({2, cut, static_cast<std::uint32_t>(good.size())});
     recs.push_back({3, ethernet(0x0806, Bytes(28, 0))});                          // ARP
-    recs.push_back({4, ethernet(0x86dd, Bytes(48, 0))});                          // IPv6
+    recs.push_back({4, ethernet(0x86dd, Bytes(48, 0))});  // IPv6 type, version 0: bad header
     recs.push_back({5, ethernet(0x0800, ipv4(6, Bytes(20, 0)))});                 // TCP
     recs.push_back({6, ethernet(0x0800, ipv4(17, udp(1, 2, {1, 2}), 1, 0, 4))});  // IHL 4
     recs.push_back({7, ethernet(0x0800, ipv4(17, udp(1, 2, {1, 2}, 200)))});      // UDP len > IP
@@ -168,9 +168,9 @@ TEST(PcapReader, counts_every_frame_status_and_never_throws) {
     EXPECT_EQ(v[1].time_ns, 11);
     EXPECT_EQ(r.count(FrameStatus::Ok), 2u);
     EXPECT_EQ(r.count(FrameStatus::Truncated), 1u);
-    EXPECT_EQ(r.count(FrameStatus::NotIpv4), 2u);
+    EXPECT_EQ(r.count(FrameStatus::NotIpv4), 1u);
     EXPECT_EQ(r.count(FrameStatus::NotUdp), 1u);
-    EXPECT_EQ(r.count(FrameStatus::BadHeader), 4u);  // IHL, UDP len, IP len, runt (caplen = len)
+    EXPECT_EQ(r.count(FrameStatus::BadHeader), 5u);  // v6 0, IHL, UDP len, IP len, runt
     EXPECT_EQ(r.count(FrameStatus::Fragment), 1u);
     EXPECT_EQ(total(r), recs.size());
 }

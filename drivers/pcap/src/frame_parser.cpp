@@ -9,6 +9,7 @@ namespace mirage::pcap::detail {
 namespace {
 
 constexpr std::uint16_t kEtherIpv4 = 0x0800;
+constexpr std::uint16_t kEtherIpv6 = 0x86dd;
 constexpr std::uint16_t kEtherVlan = 0x8100;
 constexpr std::uint16_t kEtherQinQ = 0x88a8;
 constexpr std::uint8_t kProtoUdp = 17;
@@ -50,24 +51,85 @@ bool link_layer(int dlt, std::span<const std::uint8_t> f, std::size_t& offset,
         case DLT_NULL: {  // BSD loopback: host-order address family; AF_INET is 2 everywhere
             if (f.size() < 4) return false;
             offset = 4;
-            const bool v4 = (f[0] == 2 && f[3] == 0) || (f[3] == 2 && f[0] == 0);
-            ethertype = v4 ? kEtherIpv4 : 0;
+            // AF_INET6 differs per OS: 10 (Linux), 24 (NetBSD/OpenBSD), 28 (FreeBSD), 30 (macOS).
+            const std::uint8_t af = f[0] != 0 ? f[0] : f[3];
+            ethertype = af == 2 ? kEtherIpv4 : (af == 10 || af == 24 || af == 28 || af == 30)
+                                                   ? kEtherIpv6
+                                                   : 0;
             return true;
         }
-        default:  // DLT_RAW / DLT_IPV4: the frame is the IP packet
+        case DLT_IPV6:
             offset = 0;
-            ethertype = (!f.empty() && (f[0] >> 4) == 4) ? kEtherIpv4 : 0;
+            ethertype = kEtherIpv6;
             return true;
+        default: {  // DLT_RAW / DLT_IPV4: the frame is the IP packet; its version says which
+            offset = 0;
+            const int version = f.empty() ? 0 : f[0] >> 4;
+            ethertype = version == 4 ? kEtherIpv4 : version == 6 ? kEtherIpv6 : 0;
+            return true;
+        }
     }
 }
 
+FrameStatus parse_ipv6(std::span<const std::uint8_t> ip, std::size_t caplen, std::uint32_t wire_len,
+                       Ipv4Packet& out) {
+    if (ip.size() < 40) return short_status(caplen, wire_len);
+    if ((ip[0] >> 4) != 6) return FrameStatus::BadHeader;
+    const std::size_t total_len = 40 + std::size_t{be16(&ip[4])};
+    if (total_len == 40 && be16(&ip[4]) == 0 && ip[6] == 0) return FrameStatus::BadHeader;  // jumbo
+    if (ip.size() < total_len) return short_status(caplen, wire_len);
+    out.v6 = true;
+    std::copy_n(&ip[8], 16, out.src6.begin());
+    std::copy_n(&ip[24], 16, out.dst6.begin());
+    std::uint8_t next = ip[6];
+    std::size_t off = 40;
+    // Extension headers (RFC 8200 §4): hop-by-hop, routing, destination options, fragment, AH.
+    for (int hops = 0; hops < 16; ++hops) {
+        if (next != 0 && next != 43 && next != 60 && next != 44 && next != 51) break;
+        if (total_len < off + 8) return FrameStatus::BadHeader;
+        std::size_t len = 8;
+        if (next == 44) {
+            const std::uint16_t fo = be16(&ip[off + 2]);
+            if ((fo & 0xfff8) != 0 || (fo & 1) != 0) return FrameStatus::Fragment;
+        } else if (next == 51) {
+            len = (std::size_t{ip[off + 1]} + 2) * 4;
+        } else {
+            len = (std::size_t{ip[off + 1]} + 1) * 8;
+        }
+        next = ip[off];
+        off += len;
+        if (off > total_len) return FrameStatus::BadHeader;
+    }
+    out.protocol = next;
+    out.more_fragments = false;
+    out.fragment_offset = 0;
+    out.payload = ip.subspan(off, total_len - off);
+    return next == kProtoUdp ? FrameStatus::Ok : FrameStatus::NotUdp;
+}
+
 }  // namespace
+
+bool supported_dlt(int dlt) {
+    switch (dlt) {
+        case DLT_EN10MB:
+        case DLT_LINUX_SLL:
+        case DLT_LINUX_SLL2:
+        case DLT_NULL:
+        case DLT_RAW:
+        case DLT_IPV4:
+        case DLT_IPV6:
+            return true;
+        default:
+            return false;
+    }
+}
 
 FrameStatus parse_ipv4_frame(int dlt, std::span<const std::uint8_t> frame, std::uint32_t wire_len,
                              Ipv4Packet& out) {
     std::size_t off = 0;
     std::uint16_t ethertype = 0;
     if (!link_layer(dlt, frame, off, ethertype)) return short_status(frame.size(), wire_len);
+    if (ethertype == kEtherIpv6) return parse_ipv6(frame.subspan(off), frame.size(), wire_len, out);
     if (ethertype != kEtherIpv4) return FrameStatus::NotIpv4;
 
     const auto ip = frame.subspan(off);

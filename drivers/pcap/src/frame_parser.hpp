@@ -12,6 +12,8 @@ namespace mirage::pcap::detail {
 // (Ethernet padding removed) and points into the frame.
 struct Ipv4Packet {
     std::array<std::uint8_t, 4> src{}, dst{};
+    bool v6 = false;  // an IPv6 packet: addresses in src6 / dst6, never a fragment here
+    std::array<std::uint8_t, 16> src6{}, dst6{};
     std::uint16_t id = 0;
     std::uint8_t protocol = 0;
     bool more_fragments = false;
@@ -20,9 +22,11 @@ struct Ipv4Packet {
     bool is_fragment() const { return more_fragments || fragment_offset != 0; }
 };
 
-// Link layer (libpcap DLT_*) + IPv4 header. `wire_len` is the frame's original length: a
+// Link layer (libpcap DLT_*) + IPv4 or IPv6 header (IPv6 extension headers are skipped; an IPv6
+// fragment other than an atomic one is FrameStatus::Fragment). `wire_len` is the frame's original length: a
 // header that runs past the captured bytes is Truncated when the capture cut the frame
 // (caplen < wire_len), BadHeader when the frame itself is too short for what it claims.
+bool supported_dlt(int dlt);
 FrameStatus parse_ipv4_frame(int dlt, std::span<const std::uint8_t> frame, std::uint32_t wire_len,
                              Ipv4Packet& out);
 

@@ -2,40 +2,62 @@
 #include <fmt/format.h>
 #include <pcap/pcap.h>
 
+#include <cstdio>
+
 #include "frame_parser.hpp"
 #include "ip_reassembler.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/pcap/pcap.hpp"
+#include "udp_framer.hpp"
 
 namespace mirage::pcap {
 
 struct Reader::Impl {
     pcap_t* handle = nullptr;
     int dlt = 0;
+    bool link_ok = true;
     bool done = false;
+    std::string path;
     std::string error;
+    std::int64_t error_offset = -1;
+    std::int64_t record_offset = -1;
     detail::IpReassembler reassembler;
+    // Filter on the file's frames, and on re-framed reassembled datagrams (Ethernet).
+    bool filtering = false;
+    bpf_program raw_filter{};
+    bpf_program eth_filter{};
+    std::uint64_t filtered = 0;
+    std::vector<std::uint8_t> frame;  // re-framing buffer
+
+    ~Impl() {
+        if (filtering) {
+            pcap_freecode(&raw_filter);
+            pcap_freecode(&eth_filter);
+        }
+        if (handle) pcap_close(handle);
+    }
+    std::int64_t tell() const {
+        FILE* f = pcap_file(handle);
+        return f ? static_cast<std::int64_t>(std::ftell(f)) : -1;
+    }
 };
 
-namespace {
-
-bool supported_dlt(int dlt) {
-    switch (dlt) {
-        case DLT_EN10MB:
-        case DLT_LINUX_SLL:
-        case DLT_LINUX_SLL2:
-        case DLT_NULL:
-        case DLT_RAW:
-        case DLT_IPV4:
-            return true;
-        default:
-            return false;
+const char* to_string(FrameStatus s) {
+    switch (s) {
+        case FrameStatus::Ok: return "ok";
+        case FrameStatus::Truncated: return "truncated";
+        case FrameStatus::NotIpv4: return "not-ip";
+        case FrameStatus::NotUdp: return "not-udp";
+        case FrameStatus::BadHeader: return "bad-header";
+        case FrameStatus::Fragment: return "fragment";
     }
+    return "?";
 }
 
-}  // namespace
+Reader::Reader(const std::string& path) : Reader(path, ReaderOptions{}) {}
 
-Reader::Reader(const std::string& path) : impl_(new Impl) {
+Reader::Reader(const std::string& path, const ReaderOptions& options) : impl_(new Impl) {
+    impl_->path = path;
     char errbuf[PCAP_ERRBUF_SIZE] = {};
     // Nanosecond precision: libpcap scales µs files up, so ts.tv_usec always holds ns.
     impl_->handle =
@@ -45,42 +67,73 @@ Reader::Reader(const std::string& path) : impl_(new Impl) {
         throw IoError(fmt::format("pcap reader '{}': {}", path, errbuf));
     }
     impl_->dlt = pcap_datalink(impl_->handle);
-    if (!supported_dlt(impl_->dlt)) {
+    impl_->link_ok = detail::supported_dlt(impl_->dlt);
+    if (!impl_->link_ok && options.unknown_link_throws) {
         const char* name = pcap_datalink_val_to_name(impl_->dlt);
         const int dlt = impl_->dlt;
-        pcap_close(impl_->handle);
         delete impl_;
         throw IoError(fmt::format(
             "pcap reader '{}': link type {} ({}) not supported (Ethernet, Linux SLL/SLL2, "
-            "BSD loopback or raw IPv4 only)",
+            "BSD loopback or raw IP only)",
             path, dlt, name ? name : "unknown"));
     }
 }
 
-Reader::~Reader() {
-    pcap_close(impl_->handle);
-    delete impl_;
-}
+Reader::~Reader() { delete impl_; }
 
 const std::string& Reader::error() const { return impl_->error; }
+std::int64_t Reader::error_offset() const { return impl_->error_offset; }
+std::int64_t Reader::record_offset() const { return impl_->record_offset; }
+std::uint64_t Reader::filtered() const { return impl_->filtered; }
+int Reader::link_type() const { return impl_->dlt; }
+bool Reader::link_supported() const { return impl_->link_ok; }
+const std::string& Reader::path() const { return impl_->path; }
+
+void Reader::set_filter(const std::string& expression) {
+    auto& m = *impl_;
+    if (m.filtering) {
+        pcap_freecode(&m.raw_filter);
+        pcap_freecode(&m.eth_filter);
+        m.filtering = false;
+    }
+    if (expression.empty()) return;
+    if (pcap_compile(m.handle, &m.raw_filter, expression.c_str(), 1, PCAP_NETMASK_UNKNOWN) != 0)
+        throw ConfigError(fmt::format("pcap reader '{}': filter '{}': {}", m.path, expression,
+                                      pcap_geterr(m.handle)));
+    pcap_t* eth = pcap_open_dead(DLT_EN10MB, 65535);
+    const int rc = eth ? pcap_compile(eth, &m.eth_filter, expression.c_str(), 1,
+                                      PCAP_NETMASK_UNKNOWN)
+                       : -1;
+    const std::string why = eth ? pcap_geterr(eth) : "out of memory";
+    if (eth) pcap_close(eth);
+    if (rc != 0) {
+        pcap_freecode(&m.raw_filter);
+        throw ConfigError(
+            fmt::format("pcap reader '{}': filter '{}': {}", m.path, expression, why));
+    }
+    m.filtering = true;
+}
 
 bool Reader::next(UdpDatagram& out) {
     auto count = [this](FrameStatus s, std::uint64_t n = 1) {
         counts_[static_cast<std::size_t>(s)] += n;
     };
-    auto& r = impl_->reassembler;
-    while (!impl_->done) {
+    auto& m = *impl_;
+    auto& r = m.reassembler;
+    while (!m.done) {
         pcap_pkthdr* hdr = nullptr;
         const u_char* data = nullptr;
-        const int rc = pcap_next_ex(impl_->handle, &hdr, &data);
+        const std::int64_t at = m.tell();
+        const int rc = pcap_next_ex(m.handle, &hdr, &data);
         if (rc == 0) continue;  // live-capture timeout; not produced by files
         if (rc != 1) {
             // PCAP_ERROR_BREAK is the clean end; PCAP_ERROR a damaged or cut last record.
             if (rc == PCAP_ERROR) {
-                impl_->error = pcap_geterr(impl_->handle);
+                m.error_offset = at;
+                m.error = fmt::format("record at byte {}: {}", at, pcap_geterr(m.handle));
                 count(FrameStatus::Truncated);
             }
-            impl_->done = true;
+            m.done = true;
             r.drain();
             count(FrameStatus::Fragment, r.take_abandoned());
             return false;
@@ -91,10 +144,20 @@ bool Reader::next(UdpDatagram& out) {
             r.expire(time_ns);
             count(FrameStatus::Fragment, r.take_abandoned());
         }
+        if (!m.link_ok) {
+            count(FrameStatus::NotIpv4);
+            continue;
+        }
 
         detail::Ipv4Packet ip;
         const std::span<const std::uint8_t> frame(data, hdr->caplen);
-        FrameStatus status = detail::parse_ipv4_frame(impl_->dlt, frame, hdr->len, ip);
+        FrameStatus status = detail::parse_ipv4_frame(m.dlt, frame, hdr->len, ip);
+        const bool fragment = status == FrameStatus::Ok && !ip.v6 && ip.is_fragment();
+        // Fragments are filtered once whole; everything else as captured.
+        if (m.filtering && !fragment && pcap_offline_filter(&m.raw_filter, hdr, data) == 0) {
+            ++m.filtered;
+            continue;
+        }
         if (status != FrameStatus::Ok) {
             count(status);
             continue;
@@ -102,7 +165,7 @@ bool Reader::next(UdpDatagram& out) {
         std::uint64_t frames = 1;
         std::vector<std::uint8_t> whole;
         std::span<const std::uint8_t> ip_payload = ip.payload;
-        if (ip.is_fragment()) {
+        if (fragment) {
             const auto res = r.add(ip, time_ns, whole, frames);
             count(FrameStatus::Fragment, r.take_abandoned());  // evicted to make room
             if (res == detail::IpReassembler::Result::Pending) continue;
@@ -113,11 +176,35 @@ bool Reader::next(UdpDatagram& out) {
             ip_payload = whole;
         }
         status = detail::parse_udp(ip_payload, out);
+        if (status == FrameStatus::Ok && fragment && m.filtering) {
+            // Re-frame the whole datagram as one Ethernet/IPv4/UDP frame for the filter.
+            const Endpoint src{ip.src, out.src.port}, dst{ip.dst, out.dst.port};
+            bool pass = false;
+            detail::frame_udp(FrameOptions{}, src, dst, ip.id, out.payload, 65535 + 28, m.frame,
+                              [&](std::span<const std::uint8_t> f) {
+                                  pcap_pkthdr h{};
+                                  h.caplen = h.len = static_cast<bpf_u_int32>(f.size());
+                                  pass = pcap_offline_filter(&m.eth_filter, &h, f.data()) != 0;
+                              });
+            if (!pass) {
+                m.filtered += frames;
+                continue;
+            }
+        }
         count(status, frames);
         if (status != FrameStatus::Ok) continue;
+        m.record_offset = at;
         out.time_ns = time_ns;
-        out.src.ip = ip.src;
-        out.dst.ip = ip.dst;
+        out.src.v6 = out.dst.v6 = ip.v6;
+        if (ip.v6) {
+            out.src.ip = out.dst.ip = {0, 0, 0, 0};
+            out.src.ip6 = ip.src6;
+            out.dst.ip6 = ip.dst6;
+        } else {
+            out.src.ip = ip.src;
+            out.dst.ip = ip.dst;
+            out.src.ip6 = out.dst.ip6 = {};
+        }
         return true;
     }
     return false;

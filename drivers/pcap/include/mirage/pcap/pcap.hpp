@@ -8,12 +8,17 @@
 
 namespace mirage::pcap {
 
-// Contract (lead): implemented with libpcap. Ethernet II (optionally one 802.1Q tag) or Linux
-// cooked (SLL) link layers, IPv4, UDP. IP fragments are reassembled when all pieces are present.
+// Contract (lead): implemented with libpcap. Ethernet II (up to two 802.1Q / 802.1ad tags), Linux
+// cooked (SLL, SLL2), BSD loopback or raw IP link layers; IPv4 and IPv6 (extension headers
+// skipped); UDP. IPv4 fragments are reassembled when all pieces are present; IPv6 fragments are
+// not (counted as Fragment). Classic pcap and pcapng (one link type per file, a libpcap limit).
 
 struct Endpoint {
     std::array<std::uint8_t, 4> ip{127, 0, 0, 1};
     std::uint16_t port = 0;
+    // IPv6 datagrams: v6 is set, ip6 holds the address and ip stays 0.0.0.0.
+    bool v6 = false;
+    std::array<std::uint8_t, 16> ip6{};
 };
 
 // One UDP datagram of a capture. time_ns: capture timestamp, ns since the Unix epoch.
@@ -27,17 +32,27 @@ struct UdpDatagram {
 enum class FrameStatus : std::uint8_t {
     Ok,
     Truncated,  // caplen < what the headers say
-    NotIpv4,    // other ethertype (ARP, IPv6, ...)
+    NotIpv4,    // not an IP packet: other ethertype (ARP, ...), or an unsupported link type
     NotUdp,     // other IP protocol
     BadHeader,  // IHL < 5, total length inconsistent, UDP length inconsistent
-    Fragment,   // a fragment still waiting for its other pieces
+    Fragment,   // a fragment still waiting for its other pieces (or any IPv6 fragment)
 };
 inline constexpr std::size_t kFrameStatusCount = 6;
+
+// Short name of a status for summaries ("truncated", "not-ip", ...).
+const char* to_string(FrameStatus s);
+
+struct ReaderOptions {
+    // true: a file whose link type the reader cannot parse throws IoError in the constructor;
+    // false: it opens, and every frame counts as NotIpv4 (see Reader::link_supported()).
+    bool unknown_link_throws = true;
+};
 
 // Reads UDP datagrams from a classic pcap or pcapng file (µs or ns precision).
 class Reader {
   public:
     explicit Reader(const std::string& path);  // throws IoError naming the file
+    Reader(const std::string& path, const ReaderOptions& options);
     ~Reader();
     Reader(const Reader&) = delete;
     Reader& operator=(const Reader&) = delete;
@@ -52,6 +67,23 @@ class Reader {
     // Why reading stopped before a clean end of file (e.g. a record cut by a full disk or a
     // crash: libpcap's message); empty otherwise. The cut record is counted as Truncated.
     const std::string& error() const;
+    // File offset of the record where reading stopped on an error (-1 when none): the first
+    // byte that is not part of a whole record.
+    std::int64_t error_offset() const;
+    // File offset at which the record of the datagram last returned by next() starts (of its
+    // last frame, for a reassembled datagram).
+    std::int64_t record_offset() const;
+
+    // Keeps only frames matching a libpcap filter expression (pcap-filter(7), e.g.
+    // "udp dst port 2368 and host 192.168.1.201"), compiled for the file's link type. A
+    // reassembled IPv4 datagram is tested as one unfragmented Ethernet/IPv4/UDP frame, so port
+    // filters match every fragment. Throws ConfigError naming the file and the expression.
+    void set_filter(const std::string& expression);
+    // Frames / reassembled datagrams the filter rejected (not included in counts()).
+    std::uint64_t filtered() const;
+    int link_type() const;
+    bool link_supported() const;
+    const std::string& path() const;
 
   private:
     struct Impl;

@@ -59,4 +59,9 @@ class Writer {
     std::uint64_t datagrams_ = 0, frames_ = 0, rejected_ = 0;
 };
 
+// Cuts a classic pcap file (either byte order, µs or ns) after its last whole record, e.g. after
+// a write error left a partial one. Returns the new size; throws IoError naming the file when it
+// cannot be read, is not a classic pcap, or cannot be truncated.
+std::uint64_t cut_to_whole_records(const std::string& path);
+
 }  // namespace mirage::pcap
