@@ -102,7 +102,8 @@ void register_emulate(CLI::App& app) {
         }
         if (o->to.empty() && o->pcap.empty())
             throw ConfigError("emulate: nothing to do: give --to HOST and/or --pcap FILE");
-        const bool is_static = in.trajectory.empty() || in.trajectory.rfind("static:", 0) == 0;
+        const bool is_static = in.nav_log.empty() &&
+                               (in.trajectory.empty() || in.trajectory.rfind("static:", 0) == 0);
         const bool forever = is_static && in.duration.empty();
         if (forever && o->afap)
             throw ConfigError(

@@ -7,11 +7,13 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <thread>
 
 #include "commands.hpp"
 #include "fake_ins.hpp"
 #include "job.hpp"
+#include "nav_log.hpp"
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
@@ -100,12 +102,23 @@ void register_fake_ins(CLI::App& app) {
         std::vector<std::string> silence;
         std::string jump_at, backwards_at, nan_at;
         std::uint64_t corrupt_every = 0;
+        std::string log;
+        double speed = 1.0;
+        std::string nav_date;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--trajectory", o->job.trajectory,
                     "Trajectory CSV, 'static:x,y,z[,roll,pitch,yaw]' or 'demo-car' (played from "
-                    "its start at the moment the command starts)")
-        ->required();
+                    "its start at the moment the command starts)");
+    cmd->add_option("--log", o->log,
+                    "Replay a recorded navigation log with its own timing instead of a "
+                    "trajectory: raw NMEA/NovAtel/NCOM bytes (message times) or candump -L for "
+                    "the CAN protocols (log timestamps)");
+    cmd->add_option("--speed", o->speed, "--log: replay speed factor (2 = twice as fast)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--nav-date", o->nav_date,
+                    "--log, NMEA without RMC/ZDA: the log's UTC date YYYY-MM-DD (default: today)");
     cmd->add_option("--scene", o->job.scene, "Scene whose georeference maps local to WGS84")
         ->capture_default_str();
     cmd->add_option("--protocol", o->protocol, "nmea, novatel, ncom, oxts-can or sbg-can")
@@ -130,11 +143,23 @@ void register_fake_ins(CLI::App& app) {
         const NavProtocol proto = parse_nav_protocol(o->protocol);
         if (!(o->rate > 0 && o->rate <= 1000))
             throw ConfigError("fake-ins: --rate must be in (0, 1000] Hz");
-        JobInputs in = o->job;
-        double scene_s = 0;
-        auto scene = load_scene_timed(in.scene, scene_s);
-        Job job = load_job_with_scene(in, scene, scene_s, false);
-        const navpose::NavFrame frame = navpose::NavFrame::from_georef(job.scene->georef);
+        if (o->log.empty() == o->job.trajectory.empty())
+            throw ConfigError("fake-ins: give --trajectory or --log (one of them)");
+        std::optional<NavLog> log;
+        std::optional<Job> job;
+        if (!o->log.empty()) {
+            NavLogOptions lo;
+            lo.nmea_date = o->nav_date;
+            log = read_nav_log(o->log, proto, lo);
+            std::printf("fake-ins: %s\n", nav_log_summary(*log).c_str());
+            if (log->stats.messages == 0)
+                throw ConfigError("fake-ins: nav log '" + o->log + "': nothing to replay");
+        } else {
+            JobInputs in = o->job;
+            double scene_s = 0;
+            auto scene = load_scene_timed(in.scene, scene_s);
+            job.emplace(load_job_with_scene(in, scene, scene_s, false));
+        }
         FakeInsConfig fc;
         fc.protocol = proto;
         fc.rate_hz = o->rate;
@@ -178,13 +203,29 @@ void register_fake_ins(CLI::App& app) {
             bus = can::open_can_bus(to);
             where = to;
         }
+        const auto& stop = install_stop_signal();
+        if (log) {
+            std::printf("fake-ins: replaying %s (%s) on %s at %gx\n", o->log.c_str(),
+                        o->protocol.c_str(), where.c_str(), o->speed);
+            std::fflush(stdout);
+            const ReplayTotals r = replay_nav_log(
+                *log, stream.get(), bus.get(), o->speed, stop,
+                bytestream::monotonic_ns() + 200'000'000);  // 200 ms for a reader to attach
+            std::printf("fake-ins: replayed %llu messages, %llu bytes, %.3f s of log, %llu "
+                        "failed writes, worst lateness %.0f us%s\n",
+                        static_cast<unsigned long long>(r.messages),
+                        static_cast<unsigned long long>(r.bytes), double(r.span_ns) * 1e-9,
+                        static_cast<unsigned long long>(r.write_failures),
+                        double(r.worst_late_ns) * 1e-3, r.interrupted ? " (interrupted)" : "");
+            return;
+        }
+        const navpose::NavFrame frame = navpose::NavFrame::from_georef(job->scene->georef);
         const core::GpsTime t0 = fake_ins_start(o->rate, std::chrono::milliseconds(200));
         std::printf("fake-ins: %s on %s t0 gps:%lld.%09lld\n", o->protocol.c_str(), where.c_str(),
                     static_cast<long long>(t0.time_since_epoch().count() / 1'000'000'000),
                     static_cast<long long>(t0.time_since_epoch().count() % 1'000'000'000));
         std::fflush(stdout);
-        const auto& stop = install_stop_signal();
-        FakeIns ins(job.trajectory, frame, fc);
+        FakeIns ins(job->trajectory, frame, fc);
         const FakeInsTotals t = ins.run(stream.get(), bus.get(), t0, stop);
         std::printf("fake-ins: %llu epochs, %llu messages, %llu bytes, %llu failed writes, %llu "
                     "epochs skipped behind a blocked output\n",

@@ -18,6 +18,7 @@
 #include "mirage/core/trajectory.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "nav_input.hpp"
+#include "nav_recorder.hpp"
 #include "packet_output.hpp"
 #include "packetizer_factory.hpp"
 #include "stop_signal.hpp"
@@ -35,7 +36,8 @@ navpose::NavFrame make_frame(const Job& job, const std::vector<double>& origin) 
 
 // Pulses per data packet (whole firing groups): the live loop renders one packet at a time.
 std::size_t pulses_per_packet(const Job& job, double packets_per_second) {
-    const double pulses_per_s = double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
+    const double pulses_per_s =
+        double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
     const auto n = static_cast<std::size_t>(std::llround(pulses_per_s / packets_per_second));
     return render::chunk_pulses(job.sensor, std::max<std::size_t>(1, n));
 }
@@ -61,6 +63,7 @@ void register_live(CLI::App& app) {
         double fake_ins_rate = 100;
         bool no_status = false;
         int rt_priority = 0;
+        std::string pose_log, nav_record, nav_record_ifname, nav_date = "host";
     };
     auto o = std::make_shared<Opts>();
     add_job_options(*cmd, o->job, false);
@@ -75,7 +78,8 @@ void register_live(CLI::App& app) {
     cmd->add_option("--data-port", o->data_port, "Lidar data port (default 2368 / 7502)");
     cmd->add_option("--position-port", o->position_port, "Velodyne position packets (0: off)")
         ->capture_default_str();
-    cmd->add_option("--imu-port", o->imu_port, "Ouster IMU packets (0: off)")->capture_default_str();
+    cmd->add_option("--imu-port", o->imu_port, "Ouster IMU packets (0: off)")
+        ->capture_default_str();
     cmd->add_option("--return-mode", o->wire.return_mode, "Velodyne: strongest, last or dual")
         ->check(CLI::IsMember({"strongest", "last", "dual"}))
         ->capture_default_str();
@@ -108,6 +112,19 @@ void register_live(CLI::App& app) {
                     "trajectory (for memory: CAN buses and demos)");
     cmd->add_option("--fake-ins-rate", o->fake_ins_rate, "Fake INS epochs per second")
         ->capture_default_str();
+    cmd->add_option("--pose-log", o->pose_log,
+                    "Write every pose sample applied (position and attitude tracks, INS GPS "
+                    "time, local and as received) to this CSV");
+    cmd->add_option("--nav-record", o->nav_record,
+                    "Record the navigation input as it arrived: raw bytes for serial/TCP/UDP "
+                    "protocols (.nmea, .bin), a candump -L log for CAN");
+    cmd->add_option("--nav-record-ifname", o->nav_record_ifname,
+                    "Interface name in the candump log (default: from the bus spec, e.g. can0)");
+    cmd->add_option("--nav-date", o->nav_date,
+                    "NMEA: UTC date assumed until an RMC/ZDA gives one: host (today), stream "
+                    "(drop sentences before the stream's first date; for recorded logs) or "
+                    "YYYY-MM-DD")
+        ->capture_default_str();
     cmd->add_flag("--no-status", o->no_status, "No status line");
     cmd->add_option("--rt-priority", o->rt_priority, "SCHED_FIFO priority of the sending thread")
         ->check(CLI::Range(0, 99));
@@ -122,7 +139,8 @@ void register_live(CLI::App& app) {
         const NavUri uri = parse_nav_uri(o->nav);
 
         navpose::PoseBufferConfig pc;
-        pc.max_extrapolation = core::Nanos(static_cast<std::int64_t>(o->max_extrapolation_ms * 1e6));
+        pc.max_extrapolation =
+            core::Nanos(static_cast<std::int64_t>(o->max_extrapolation_ms * 1e6));
         pc.max_jump_m = o->max_jump_m;
         navpose::PoseBuffer poses(pc);
         const auto& stop = install_stop_signal();
@@ -142,10 +160,56 @@ void register_live(CLI::App& app) {
             if (is_can(uri.protocol))
                 fake_bus = can::open_can_bus(uri.transport);
             else
-                throw ConfigError("live: --fake-ins runs in-process on CAN buses (e.g. "
-                                  "oxts-can:memory:x); for serial/UDP run `mirage fake-ins`");
+                throw ConfigError(
+                    "live: --fake-ins runs in-process on CAN buses (e.g. "
+                    "oxts-can:memory:x); for serial/UDP run `mirage fake-ins`");
         }
-        NavInput nav(uri, frame, poses, o->undulation_m);
+        // Recorders: opened before the nav thread starts, closed after it stops; a write error
+        // fails the command at the end (the files keep whole lines only).
+        std::unique_ptr<PoseLog> pose_log;
+        std::unique_ptr<NavRecorder> nav_record;
+        if (!o->pose_log.empty()) pose_log = std::make_unique<PoseLog>(o->pose_log);
+        if (!o->nav_record.empty())
+            nav_record = std::make_unique<NavRecorder>(
+                o->nav_record, is_can(uri.protocol)
+                                   ? (o->nav_record_ifname.empty() ? candump_ifname(uri.transport)
+                                                                   : o->nav_record_ifname)
+                                   : std::string());
+        NavInputOptions nio;
+        nio.undulation_m = o->undulation_m;
+        nio.nmea_date = o->nav_date;
+        nio.pose_log = pose_log.get();
+        nio.record = nav_record.get();
+        NavInput nav(uri, frame, poses, nio);
+        // Stops the nav thread, closes the recorders and reports them; throws the first write
+        // error. Runs on every way out after the first pose wait (normal end, SIGINT).
+        const auto finish_recording = [&] {
+            nav.stop();
+            std::string err;
+            if (pose_log) {
+                if (!pose_log->close() && err.empty()) err = pose_log->error();
+                std::printf("pose log: %llu samples -> %s\n",
+                            static_cast<unsigned long long>(pose_log->rows()), o->pose_log.c_str());
+            }
+            if (nav_record) {
+                if (!nav_record->close() && err.empty()) err = nav_record->error();
+                std::printf("nav record: %llu %s (%llu bytes) -> %s\n",
+                            static_cast<unsigned long long>(nav_record->units()),
+                            nav_record->is_candump() ? "frames (candump -L)" : "chunks (raw)",
+                            static_cast<unsigned long long>(nav_record->bytes_written()),
+                            o->nav_record.c_str());
+            }
+            if (const auto bc = nav.bus_counters())
+                std::printf(
+                    "nav bus: rx frames %llu, error frames %llu, bus-off %llu, "
+                    "malformed %llu\n",
+                    static_cast<unsigned long long>(bc->rx_frames),
+                    static_cast<unsigned long long>(bc->error_frames),
+                    static_cast<unsigned long long>(bc->bus_off),
+                    static_cast<unsigned long long>(bc->malformed));
+            std::fflush(stdout);
+            if (!err.empty()) throw IoError(err);
+        };
         nav.start();
         if (fake_traj) {
             FakeInsConfig fc;
@@ -176,8 +240,9 @@ void register_live(CLI::App& app) {
                      ouster ? "ouster" : "velodyne", job.sensor.name.c_str(), o->nav.c_str(),
                      nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
         std::fflush(stderr);
-        const auto deadline = std::chrono::steady_clock::now() +
-                              std::chrono::milliseconds(static_cast<int>(o->first_nav_timeout_s * 1e3));
+        const auto deadline =
+            std::chrono::steady_clock::now() +
+            std::chrono::milliseconds(static_cast<int>(o->first_nav_timeout_s * 1e3));
         std::optional<core::GpsTime> first;
         while (!stop.load() && !(first = poses.newest())) {
             if (std::chrono::steady_clock::now() > deadline) {
@@ -191,7 +256,10 @@ void register_live(CLI::App& app) {
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
-        if (stop.load()) return;
+        if (stop.load()) {
+            finish_recording();
+            return;
+        }
         // A serial line may hold a backlog of old messages: let it drain so the INS-to-host
         // offset (lower envelope of arrival − INS time) settles on messages arriving live, then
         // fire pulse 0 at the present INS time + 20 ms (whole ms).
@@ -235,18 +303,19 @@ void register_live(CLI::App& app) {
             o->to);
         out.emplace(po);
         const core::Nanos delay(static_cast<std::int64_t>(o->pipeline_delay_us * 1e3));
-        out->anchor(job.options.start,
-                    t0 + nav.offset_ns().value_or(0) + delay.count());
+        out->anchor(job.options.start, t0 + nav.offset_ns().value_or(0) + delay.count());
 
         LiveOptions lo;
         lo.pipeline_delay = delay;
         lo.status_line = !o->no_status;
         if (!o->duration.empty()) lo.duration = parse_seconds(o->duration, "--duration");
         const std::size_t window = pulses_per_packet(job, w.packets_per_second);
-        std::fprintf(stderr, "mirage live: first pose at gps:%.3f; pulse 0 at gps:%.3f; %zu pulses "
-                             "per window -> %s\n",
-                     double(first->time_since_epoch().count()) / 1e9, double(t0) / 1e9, window,
-                     o->to.empty() ? "(no network)" : fmt::format("{}:{}", o->to, ports.data).c_str());
+        std::fprintf(
+            stderr,
+            "mirage live: first pose at gps:%.3f; pulse 0 at gps:%.3f; %zu pulses "
+            "per window -> %s\n",
+            double(first->time_since_epoch().count()) / 1e9, double(t0) / 1e9, window,
+            o->to.empty() ? "(no network)" : fmt::format("{}:{}", o->to, ports.data).c_str());
         (void)nav.take_arrivals();  // the backlog before pulse 0 is not latency
         LiveTotals t = run_live(job, *w.packetizer, *out, window, nav, poses, lo, stop, packets,
                                 bytes, first_send);
@@ -267,7 +336,8 @@ void register_live(CLI::App& app) {
             static_cast<unsigned long long>(t.points), static_cast<unsigned long long>(t.windows),
             static_cast<unsigned long long>(t.stale_windows),
             static_cast<unsigned long long>(t.stale_periods),
-            static_cast<unsigned long long>(nc.samples), static_cast<unsigned long long>(nc.applied),
+            static_cast<unsigned long long>(nc.samples),
+            static_cast<unsigned long long>(nc.applied),
             static_cast<unsigned long long>(nc.decode_rejected),
             static_cast<unsigned long long>(dc.bad_checksum),
             static_cast<unsigned long long>(dc.truncated),
@@ -284,6 +354,7 @@ void register_live(CLI::App& app) {
             static_cast<unsigned long long>(pt.late),
             static_cast<unsigned long long>(pt.send_failed));
         std::fflush(stdout);
+        finish_recording();
     });
 }
 

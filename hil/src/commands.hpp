@@ -15,5 +15,7 @@ void register_emulate(CLI::App& app);
 void register_stream_bench(CLI::App& app);
 void register_live(CLI::App& app);
 void register_fake_ins(CLI::App& app);
+void register_replay(CLI::App& app);
+void register_record(CLI::App& app);
 
 }  // namespace mirage::hil

@@ -110,3 +110,58 @@ FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, cor
 }
 
 }  // namespace mirage::hil
+
+namespace mirage::hil {
+namespace {
+
+void sleep_until_monotonic(std::int64_t ns) {
+    const timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+}
+
+}  // namespace
+
+ReplayTotals replay_nav_log(const NavLog& log, bytestream::ByteStream* stream, can::CanBus* bus,
+                            double speed, const std::atomic<bool>& stop, std::int64_t start_ns) {
+    ReplayTotals tot;
+    if (!(speed > 0)) speed = 1.0;
+    if (start_ns == 0) start_ns = bytestream::monotonic_ns();
+    const bool frames = is_can(log.protocol);
+    const std::size_t n = frames ? log.frames.size() : log.messages.size();
+    const auto time_of = [&](std::size_t i) -> std::int64_t {
+        return frames ? log.frames[i].stamped.time_ns
+                      : log.messages[i].t.time_since_epoch().count();
+    };
+    if (n == 0) return tot;
+    const std::int64_t t0 = time_of(0);
+    std::int64_t last = start_ns;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (stop.load()) {
+            tot.interrupted = true;
+            break;
+        }
+        const std::int64_t rel = time_of(i) - t0;
+        // Deadlines never go back: a time glitch in the log is sent at once, not reordered.
+        const std::int64_t due =
+            std::max(last, start_ns + static_cast<std::int64_t>(std::llround(double(rel) / speed)));
+        last = due;
+        sleep_until_monotonic(due);
+        tot.worst_late_ns = std::max(tot.worst_late_ns, bytestream::monotonic_ns() - due);
+        if (frames) {
+            const nav::CanFrame& f = log.frames[i].stamped.frame;
+            if (!bus || !bus->send(f)) ++tot.write_failures;
+            tot.bytes += f.len;
+        } else {
+            const NavLogMessage& m = log.messages[i];
+            const std::span<const std::uint8_t> b(log.bytes.data() + m.offset, m.size);
+            if (!stream || !stream->write(b)) ++tot.write_failures;
+            tot.bytes += m.size;
+        }
+        ++tot.messages;
+        tot.span_ns = rel;
+    }
+    return tot;
+}
+
+}  // namespace mirage::hil

@@ -6,6 +6,7 @@
 #include "mirage/core/trajectory.hpp"
 #include "mirage/navpose/nav_frame.hpp"
 #include "nav_codec.hpp"
+#include "nav_log.hpp"
 
 namespace mirage::bytestream {
 class ByteStream;
@@ -62,5 +63,20 @@ core::GpsTime gps_now_ms();
 // The fake INS's first epoch: `lead` from now, on a whole multiple of the epoch period, so that
 // protocols with coarse time fields (NMEA hhmmss.ss) carry every epoch's time exactly.
 core::GpsTime fake_ins_start(double rate_hz, core::Nanos lead);
+
+struct ReplayTotals {
+    std::uint64_t messages = 0, bytes = 0, write_failures = 0;
+    std::int64_t span_ns = 0;        // log time from the first to the last message sent
+    std::int64_t worst_late_ns = 0;  // how far past its deadline a write started, at worst
+    bool interrupted = false;
+};
+
+// Replays a recorded log with its own timing: message i is written when CLOCK_MONOTONIC reaches
+// start_ns + (t_i − t_0) / speed (absolute deadlines, so delays never accumulate). Byte logs go
+// to `stream` (t = the messages' own times: NMEA UTC fields, NovAtel header GPS time, NCOM
+// time), CAN logs to `bus` (t = the candump timestamps). Times that run backwards in the log are
+// sent at once. start_ns 0: now.
+ReplayTotals replay_nav_log(const NavLog& log, bytestream::ByteStream* stream, can::CanBus* bus,
+                            double speed, const std::atomic<bool>& stop, std::int64_t start_ns = 0);
 
 }  // namespace mirage::hil

@@ -5,12 +5,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 
 #include "mirage/core/error.hpp"
 #include "mirage/scene/demo_town.hpp"
 #include "mirage/scene/loader.hpp"
+#include "nav_log.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -81,6 +83,20 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
                        "Trajectory positions between samples: linear or cubic (attitude: slerp)")
             ->check(CLI::IsMember({"linear", "cubic"}))
             ->capture_default_str();
+        app.add_option("--nav-log", in.nav_log,
+                       "Re-simulate a recorded navigation log instead of --trajectory (raw "
+                       "NMEA/NovAtel/NCOM bytes, candump -L for CAN); time = the INS GPS time");
+        app.add_option("--nav-protocol", in.nav_protocol,
+                       "--nav-log protocol: nmea, novatel, ncom, oxts-can or sbg-can")
+            ->capture_default_str();
+        app.add_option("--nav-origin", in.nav_origin,
+                       "--nav-log: local frame = tangent plane at lat,lon,h (deg, deg, m); "
+                       "default: the scene's UTM/UPS georeference");
+        app.add_option("--nav-undulation", in.nav_undulation_m,
+                       "--nav-log: geoid undulation (m) added to heights the INS gives above MSL")
+            ->capture_default_str();
+        app.add_option("--nav-date", in.nav_date,
+                       "--nav-log, NMEA without RMC/ZDA: the log's UTC date YYYY-MM-DD");
         app.add_option("--duration", in.duration, "Seconds to render (default: trajectory span)");
         app.add_option("--start", in.start,
                        "Time of the first pulse: UTC ISO 8601 or gps:<seconds>");
@@ -150,7 +166,39 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
     const core::Nanos requested =
         in.duration.empty() ? core::Nanos(0) : parse_seconds(in.duration, "--duration");
     if (!in.start.empty()) start = core::parse_time(in.start);
-    if (tspec.empty() || tspec.rfind("static:", 0) == 0) {
+    if (!in.nav_log.empty()) {
+        if (!tspec.empty()) throw ConfigError("--nav-log: give --trajectory or --nav-log, not both");
+        const NavProtocol proto = parse_nav_protocol(in.nav_protocol);
+        navpose::NavFrame frame = navpose::NavFrame::tangent_plane(0, 0, 0);
+        if (!in.nav_origin.empty()) {
+            frame = parse_nav_origin(in.nav_origin);
+        } else {
+            try {
+                frame = navpose::NavFrame::from_georef(job.scene->georef);
+            } catch (const ConfigError& e) {
+                throw ConfigError(fmt::format("--nav-log: {} (or give --nav-origin lat,lon,h)",
+                                              e.what()));
+            }
+        }
+        NavLogOptions lo;
+        lo.nmea_date = in.nav_date;
+        const NavLog log = read_nav_log(in.nav_log, proto, lo);
+        std::fprintf(stderr, "%s\n", nav_log_summary(log).c_str());
+        NavTrackOptions to;
+        to.undulation_m = in.nav_undulation_m;
+        to.interpolation = in.interpolation == "linear" ? core::Interpolation::Linear
+                                                        : core::Interpolation::Cubic;
+        NavTrackStats ts;
+        job.trajectory = nav_log_trajectory(log, frame, to, &ts);
+        std::fprintf(stderr, "nav log: %llu positions, %llu attitudes%s -> %llu poses over %.3f s\n",
+                     static_cast<unsigned long long>(ts.positions),
+                     static_cast<unsigned long long>(ts.attitudes),
+                     ts.heading_only ? " (heading only: level)" : "",
+                     static_cast<unsigned long long>(ts.poses),
+                     double((job.trajectory.end() - job.trajectory.begin()).count()) * 1e-9);
+        if (in.start.empty()) start = job.trajectory.begin();
+        span = job.trajectory.end() - start;
+    } else if (tspec.empty() || tspec.rfind("static:", 0) == 0) {
         core::Pose pose;
         if (!tspec.empty()) {
             const auto v = split_numbers(tspec.substr(7), "--trajectory static");

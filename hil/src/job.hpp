@@ -34,6 +34,12 @@ struct JobInputs {
     double solar_irradiance = 700.0;  // W/(m²·µm) normal to the sun
     std::vector<double> lever_arm;    // x,y,z m
     std::vector<double> boresight;    // roll,pitch,yaw deg
+    // Re-simulation from a recorded navigation log instead of --trajectory (nav_log.hpp).
+    std::string nav_log;
+    std::string nav_protocol = "nmea";
+    std::string nav_origin;    // lat,lon,h: tangent-plane frame; empty = the scene's georef
+    double nav_undulation_m = 0;
+    std::string nav_date;      // NMEA logs without RMC/ZDA: YYYY-MM-DD
 };
 
 void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajectory = true);

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
     mirage::hil::register_stream_bench(app);
     mirage::hil::register_live(app);
     mirage::hil::register_fake_ins(app);
+    mirage::hil::register_replay(app);
+    mirage::hil::register_record(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -3,9 +3,13 @@
 
 #include <array>
 #include <chrono>
+#include <cstdio>
 
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
+#include "mirage/core/error.hpp"
+#include "mirage/nmea/nmea_decoder.hpp"
+#include "nav_recorder.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -14,19 +18,61 @@ constexpr std::int64_t kOffsetBlockNs = 10'000'000'000;  // lower envelope over 
 constexpr auto kPoll = std::chrono::milliseconds(50);
 
 void tally(navpose::AddStatus st, bool& applied, bool& rejected) {
-    if (st == navpose::AddStatus::Accepted) applied = true;
-    else if (st != navpose::AddStatus::Duplicate) rejected = true;
+    if (st == navpose::AddStatus::Accepted)
+        applied = true;
+    else if (st != navpose::AddStatus::Duplicate)
+        rejected = true;
+}
+
+// NMEA with a chosen date hint (or none). nav_codec's adapter always hints the host's date;
+// this one lets a recorded log of another day take its date from its own RMC/ZDA.
+class NmeaDateAdapter : public NavDecoder {
+  public:
+    explicit NmeaDateAdapter(const std::optional<nmea::Date>& hint) {
+        if (hint) d_.set_date_hint(*hint);
+    }
+    void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
+        d_.feed(b, fn);
+    }
+    void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_; }
+    nav::DecodeCounters counters() const override {
+        auto c = d_.counters();
+        c.unsupported += other_;
+        return c;
+    }
+
+  private:
+    nmea::NmeaDecoder d_;
+    std::uint64_t other_ = 0;
+};
+
+std::unique_ptr<NavDecoder> make_decoder(NavProtocol p, const std::string& nmea_date) {
+    if (p != NavProtocol::Nmea || nmea_date == "host") return make_nav_decoder(p);
+    if (nmea_date == "stream") return std::make_unique<NmeaDateAdapter>(std::nullopt);
+    int y = 0, m = 0, d = 0;
+    char tail = 0;
+    if (std::sscanf(nmea_date.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) == 3) {
+        if (const auto date = nmea::make_date(y, m, d))
+            return std::make_unique<NmeaDateAdapter>(*date);
+    }
+    throw ConfigError("live: --nav-date '" + nmea_date + "': expected host, stream or YYYY-MM-DD");
 }
 
 }  // namespace
 
 NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
                    double undulation_m)
+    : NavInput(uri, frame, poses, NavInputOptions{undulation_m, "host", nullptr, nullptr}) {}
+
+NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+                   const NavInputOptions& options)
     : uri_(uri),
       frame_(frame),
       poses_(poses),
-      undulation_m_(undulation_m),
-      decoder_(make_nav_decoder(uri.protocol)) {
+      undulation_m_(options.undulation_m),
+      pose_log_(options.pose_log),
+      record_(options.record),
+      decoder_(make_decoder(uri.protocol, options.nmea_date)) {
     if (is_can(uri.protocol)) {
         bus_ = can::open_can_bus(uri.transport);
     } else {
@@ -54,39 +100,46 @@ void NavInput::run() {
         if (bus_) {
             nav::CanFrame f;
             switch (bus_->receive(f, host_ns, kPoll)) {
-            case can::RxStatus::Frame: decoder_->feed_frame(f, fn); break;
-            case can::RxStatus::ErrorFrame: {
-                std::lock_guard lk(mu_);
-                ++counters_.error_frames;
-                break;
-            }
-            case can::RxStatus::Closed: {
-                {
+                case can::RxStatus::Frame:
+                    if (record_) record_->frame(f, host_ns);
+                    decoder_->feed_frame(f, fn);
+                    break;
+                case can::RxStatus::ErrorFrame: {
+                    if (record_) record_->frame(f, host_ns);
                     std::lock_guard lk(mu_);
-                    ++counters_.transport_closed;
+                    ++counters_.error_frames;
+                    break;
                 }
-                std::this_thread::sleep_for(std::chrono::milliseconds(100));
-                break;
-            }
-            case can::RxStatus::Timeout: break;
+                case can::RxStatus::Closed: {
+                    {
+                        std::lock_guard lk(mu_);
+                        ++counters_.transport_closed;
+                    }
+                    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+                    break;
+                }
+                case can::RxStatus::Timeout:
+                    break;
             }
         } else {
             std::size_t n = 0;
             switch (stream_->read(buf, n, host_ns, kPoll)) {
-            case bytestream::ReadStatus::Data: {
-                const std::span<const std::uint8_t> bytes(buf.data(), n);
-                if (datagrams_)
-                    decoder_->feed_datagram(bytes, fn);
-                else
-                    decoder_->feed_bytes(bytes, fn);
-                break;
-            }
-            case bytestream::ReadStatus::Closed: {
-                std::lock_guard lk(mu_);
-                ++counters_.transport_closed;
-                break;
-            }
-            case bytestream::ReadStatus::Timeout: break;
+                case bytestream::ReadStatus::Data: {
+                    const std::span<const std::uint8_t> bytes(buf.data(), n);
+                    if (record_) record_->bytes(bytes);
+                    if (datagrams_)
+                        decoder_->feed_datagram(bytes, fn);
+                    else
+                        decoder_->feed_bytes(bytes, fn);
+                    break;
+                }
+                case bytestream::ReadStatus::Closed: {
+                    std::lock_guard lk(mu_);
+                    ++counters_.transport_closed;
+                    break;
+                }
+                case bytestream::ReadStatus::Timeout:
+                    break;
             }
         }
         const nav::DecodeCounters dc = decoder_->counters();
@@ -114,8 +167,11 @@ void NavInput::on_sample(const nav::NavSample& s, std::int64_t host_ns) {
         const double h = s.height_m + (s.has(F::kHeightIsMsl) ? undulation_m_ : 0.0);
         const Eigen::Vector3d local = frame_.local_from_geodetic(s.lat_deg, s.lon_deg, h);
         std::optional<Eigen::Vector3d> v;
-        if (s.has(F::kVelocity)) v = frame_.local_velocity(s.velocity_ned_mps, s.lat_deg, s.lon_deg);
-        tally(poses_.add_position(s.t, local, v), applied, rejected);
+        if (s.has(F::kVelocity))
+            v = frame_.local_velocity(s.velocity_ned_mps, s.lat_deg, s.lon_deg);
+        const navpose::AddStatus st = poses_.add_position(s.t, local, v);
+        if (st == navpose::AddStatus::Accepted && pose_log_) pose_log_->position(s, local);
+        tally(st, applied, rejected);
     }
     if (s.has(F::kAttitude)) {
         if (!have_latlon_) {
@@ -125,7 +181,9 @@ void NavInput::on_sample(const nav::NavSample& s, std::int64_t host_ns) {
         }
         const Eigen::Quaterniond q =
             frame_.local_attitude(s.roll_rad, s.pitch_rad, s.heading_rad, last_lat_, last_lon_);
-        tally(poses_.add_attitude(s.t, q), applied, rejected);
+        const navpose::AddStatus st = poses_.add_attitude(s.t, q);
+        if (st == navpose::AddStatus::Accepted && pose_log_) pose_log_->attitude(s, q);
+        tally(st, applied, rejected);
     }
     std::lock_guard lk(mu_);
     if (rejected) ++counters_.pose_rejected;
@@ -164,7 +222,14 @@ nav::DecodeCounters NavInput::decode_counters() const {
     return decode_counters_;
 }
 
-std::uint16_t NavInput::udp_port() const { return stream_ && datagrams_ ? stream_->local_port() : 0; }
+std::uint16_t NavInput::udp_port() const {
+    return stream_ && datagrams_ ? stream_->local_port() : 0;
+}
+
+std::optional<can::BusCounters> NavInput::bus_counters() const {
+    if (!bus_) return std::nullopt;
+    return bus_->counters();
+}
 
 std::deque<std::int64_t> NavInput::take_arrivals() {
     std::lock_guard lk(mu_);

@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "mirage/can/can_bus.hpp"
 #include "mirage/navpose/nav_frame.hpp"
 #include "mirage/navpose/pose_buffer.hpp"
 #include "nav_codec.hpp"
@@ -16,20 +17,31 @@
 namespace mirage::bytestream {
 class ByteStream;
 }
-namespace mirage::can {
-class CanBus;
-}
-
 namespace mirage::hil {
 
+class PoseLog;
+class NavRecorder;
+
+// What NavInput does besides decoding and applying (all optional).
+struct NavInputOptions {
+    double undulation_m = 0;  // added to heights an INS reports above MSL
+    // NMEA: the UTC date assumed until an RMC/ZDA gives one. "host": today's (a live INS);
+    // "stream": none, sentences before the stream's first date are dropped (a recorded log of
+    // another day: a host-date guess would put its first sentences years ahead of the rest);
+    // or "YYYY-MM-DD".
+    std::string nmea_date = "host";
+    PoseLog* pose_log = nullptr;    // every applied track update, written by the nav thread
+    NavRecorder* record = nullptr;  // the raw input as it arrived
+};
+
 struct NavInputCounters {
-    std::uint64_t samples = 0;         // NavSamples decoded
-    std::uint64_t applied = 0;         // samples that updated the pose buffer
-    std::uint64_t decode_rejected = 0; // bad checksums, truncated frames, bad fields
-    std::uint64_t pose_rejected = 0;   // NaN, time backwards, position jumps
-    std::uint64_t no_time = 0;         // samples without a full time (e.g. NMEA before a date)
+    std::uint64_t samples = 0;          // NavSamples decoded
+    std::uint64_t applied = 0;          // samples that updated the pose buffer
+    std::uint64_t decode_rejected = 0;  // bad checksums, truncated frames, bad fields
+    std::uint64_t pose_rejected = 0;    // NaN, time backwards, position jumps
+    std::uint64_t no_time = 0;          // samples without a full time (e.g. NMEA before a date)
     std::uint64_t transport_closed = 0;
-    std::uint64_t error_frames = 0;    // CAN
+    std::uint64_t error_frames = 0;  // CAN
 };
 
 // Reads one navigation source on its own thread: transport -> decoder -> scene frame -> pose
@@ -40,6 +52,10 @@ class NavInput {
   public:
     NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
              double undulation_m);  // throws ConfigError / IoError when the transport won't open
+    // Same, with recording and NMEA date options. The recorders must outlive stop(); the
+    // caller closes them after stop().
+    NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+             const NavInputOptions& options);
     ~NavInput();
     NavInput(const NavInput&) = delete;
     NavInput& operator=(const NavInput&) = delete;
@@ -55,6 +71,8 @@ class NavInput {
     std::uint16_t udp_port() const;
     // Arrival times (host monotonic ns) of applied samples not yet taken, oldest first.
     std::deque<std::int64_t> take_arrivals();
+    // The CAN bus's counters (nullopt for byte transports).
+    std::optional<can::BusCounters> bus_counters() const;
 
   private:
     void run();
@@ -64,6 +82,8 @@ class NavInput {
     navpose::NavFrame frame_;
     navpose::PoseBuffer& poses_;
     double undulation_m_;
+    PoseLog* pose_log_ = nullptr;
+    NavRecorder* record_ = nullptr;
     std::unique_ptr<NavDecoder> decoder_;
     std::unique_ptr<bytestream::ByteStream> stream_;
     std::unique_ptr<can::CanBus> bus_;

@@ -1,0 +1,373 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "nav_log.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <type_traits>
+
+#include "mirage/core/error.hpp"
+#include "mirage/navcan/oxts_can.hpp"
+#include "mirage/navcan/sbg_can.hpp"
+#include "mirage/ncom/decoder.hpp"
+#include "mirage/nmea/nmea_decoder.hpp"
+#include "mirage/novatel/decoder.hpp"
+
+namespace mirage::hil {
+namespace {
+
+constexpr std::int64_t kNsPerDay = 86'400'000'000'000;
+constexpr std::int64_t kExtrapolateNs = 1'000'000'000;
+
+std::vector<std::uint8_t> read_all(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw IoError("nav log '" + path + "': cannot read (no such file or no permission)");
+    std::vector<std::uint8_t> out((std::istreambuf_iterator<char>(f)),
+                                  std::istreambuf_iterator<char>());
+    if (f.bad()) throw IoError("nav log '" + path + "': read error");
+    return out;
+}
+
+nmea::Date host_date() {
+    const auto unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    return nmea::Date::from_unix_days(unix_s / 86'400);
+}
+
+// The UTC date of the log's first timed sentence, found by a pass without a date hint (which
+// drops everything before the first RMC/ZDA); the real pass then starts on that date.
+std::optional<nmea::Date> nmea_log_date(std::span<const std::uint8_t> bytes) {
+    nmea::NmeaDecoder d;
+    std::optional<std::int64_t> first;
+    d.feed(bytes, [&](const nav::NavSample& s) {
+        if (!first && s.has(nav::NavSample::kTime)) first = core::unix_ns_from_gps(s.t);
+    });
+    if (!first) return std::nullopt;
+    // Floor division: a pre-1970 time never happens in a log, but stay exact anyway.
+    const std::int64_t days = *first >= 0 ? *first / kNsPerDay : -((-*first - 1) / kNsPerDay) - 1;
+    return nmea::Date::from_unix_days(days);
+}
+
+nmea::Date parse_date_option(const std::string& text) {
+    int y = 0, m = 0, d = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) == 3)
+        if (const auto date = nmea::make_date(y, m, d)) return *date;
+    throw ConfigError("nav log: --nav-date '" + text + "': expected YYYY-MM-DD");
+}
+
+// NMEA: one message per line; a line's time is that of the timed sample it yields.
+void split_nmea(NavLog& log, const NavLogOptions& opt) {
+    nmea::NmeaDecoder d;
+    if (auto date = nmea_log_date(log.bytes)) {
+        d.set_date_hint(*date);
+    } else {
+        d.set_date_hint(opt.nmea_date.empty() ? host_date() : parse_date_option(opt.nmea_date));
+        log.stats.nmea_date_assumed = opt.nmea_date.empty();
+    }
+    const std::span<const std::uint8_t> all(log.bytes);
+    std::size_t start = 0;
+    while (start < all.size()) {
+        std::size_t end = start;
+        while (end < all.size() && all[end] != '\n') ++end;
+        if (end < all.size()) ++end;  // the '\n' belongs to its line
+        NavLogMessage m;
+        m.offset = start;
+        m.size = end - start;
+        d.feed(all.subspan(start, end - start), [&](const nav::NavSample& s) {
+            ++log.stats.samples;
+            if (!s.has(nav::NavSample::kTime)) {
+                ++log.stats.untimed_samples;
+                return;
+            }
+            log.samples.push_back(s);
+            if (!m.timed) {
+                m.t = s.t;
+                m.timed = true;
+            }
+        });
+        log.messages.push_back(m);
+        start = end;
+    }
+    log.stats.decode = d.counters();
+}
+
+// Binary protocols: bytes are fed one at a time, and a message ends at the byte that completes
+// a timed sample; bytes before it (unsupported logs, garbage) travel with it.
+template <class Decoder>
+void split_binary(NavLog& log, Decoder& d) {
+    const std::span<const std::uint8_t> all(log.bytes);
+    std::size_t start = 0;
+    bool timed = false;
+    core::GpsTime t{};
+    const auto on = [&](const nav::NavSample& s) {
+        ++log.stats.samples;
+        if (!s.has(nav::NavSample::kTime)) {
+            ++log.stats.untimed_samples;
+            return;
+        }
+        log.samples.push_back(s);
+        if (!timed) {
+            timed = true;
+            t = s.t;
+        }
+    };
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        d.feed(all.subspan(i, 1), on);
+        if (timed) {
+            log.messages.push_back({start, i + 1 - start, t, true});
+            start = i + 1;
+            timed = false;
+        }
+    }
+    d.finish();
+    if (start < all.size()) log.messages.push_back({start, all.size() - start, t, false});
+    log.stats.decode = d.counters();
+}
+
+template <class Decoder>
+void decode_can(NavLog& log, Decoder& d) {
+    const auto on = [&](const nav::NavSample& s) {
+        ++log.stats.samples;
+        if (!s.has(nav::NavSample::kTime)) {
+            ++log.stats.untimed_samples;
+            return;
+        }
+        log.samples.push_back(s);
+    };
+    for (const auto& r : log.frames) {
+        if constexpr (std::is_same_v<Decoder, navcan::OxtsCanDecoder>)
+            d.feed(r.stamped, on);
+        else
+            d.feed(r.stamped.frame, on);
+    }
+    d.flush(on);
+    log.stats.decode = d.counters();
+}
+
+// Untimed messages take the previous timed message's time (the first ones the first time).
+void fill_times(std::vector<NavLogMessage>& msgs) {
+    std::optional<core::GpsTime> prev;
+    for (const auto& m : msgs)
+        if (m.timed) {
+            prev = m.t;
+            break;
+        }
+    if (!prev) return;
+    for (auto& m : msgs) {
+        if (m.timed)
+            prev = m.t;
+        else
+            m.t = *prev;
+    }
+}
+
+bool finite_position(const nav::NavSample& s) {
+    return std::isfinite(s.lat_deg) && std::isfinite(s.lon_deg) && std::isfinite(s.height_m) &&
+           std::abs(s.lat_deg) <= 90.0 && std::abs(s.lon_deg) <= 360.0;
+}
+
+bool finite_attitude(const nav::NavSample& s) {
+    return std::isfinite(s.roll_rad) && std::isfinite(s.pitch_rad) && std::isfinite(s.heading_rad);
+}
+
+}  // namespace
+
+NavLog read_nav_log(const std::string& path, NavProtocol protocol, const NavLogOptions& options) {
+    NavLog log;
+    log.path = path;
+    log.protocol = protocol;
+    if (is_can(protocol)) {
+        if (!std::filesystem::is_regular_file(path))
+            throw IoError("nav log '" + path + "': cannot read (no such file)");
+        navcan::CandumpReader reader(path);  // throws IoError naming the file
+        navcan::CandumpRecord r;
+        while (reader.next(r)) log.frames.push_back(r);
+        log.stats.candump = reader.stats();
+        log.stats.messages = log.frames.size();
+        log.stats.bytes = std::filesystem::file_size(path);
+        if (protocol == NavProtocol::OxtsCan) {
+            navcan::OxtsCanDecoder d;
+            decode_can(log, d);
+        } else {
+            navcan::SbgCanDecoder d;
+            decode_can(log, d);
+        }
+        return log;
+    }
+    if (std::filesystem::is_directory(path))
+        throw IoError("nav log '" + path + "': cannot read (a directory)");
+    log.bytes = read_all(path);
+    log.stats.bytes = log.bytes.size();
+    switch (protocol) {
+    case NavProtocol::Nmea: split_nmea(log, options); break;
+    case NavProtocol::Novatel: {
+        novatel::NovatelDecoder d;
+        split_binary(log, d);
+        break;
+    }
+    case NavProtocol::Ncom: {
+        ncom::NcomDecoder d;
+        split_binary(log, d);
+        break;
+    }
+    default: break;
+    }
+    fill_times(log.messages);
+    log.stats.messages = log.messages.size();
+    return log;
+}
+
+core::Trajectory nav_log_trajectory(const NavLog& log, const navpose::NavFrame& frame,
+                                    const NavTrackOptions& options, NavTrackStats* stats_out) {
+    using F = nav::NavSample;
+    NavTrackStats st;
+    // Keyed by GPS ns: the first sample of an epoch wins (NovAtel BESTPOS repeats INSPVA's time).
+    std::map<std::int64_t, Eigen::Vector3d> pos, vel;
+    std::map<std::int64_t, Eigen::Quaterniond> att, heading_att;
+    double lat = 0, lon = 0;
+    bool have_latlon = false;
+    for (const auto& s : log.samples) {
+        if (s.has(F::kPosition) && finite_position(s)) {
+            lat = s.lat_deg;
+            lon = s.lon_deg;
+            have_latlon = true;
+            break;
+        }
+    }
+    if (!have_latlon) {
+        const Eigen::Vector3d g = frame.geodetic_from_local(Eigen::Vector3d::Zero());
+        lat = g.x();
+        lon = g.y();
+    }
+    for (const auto& s : log.samples) {
+        const std::int64_t t = s.t.time_since_epoch().count();
+        if (s.has(F::kPosition)) {
+            if (!finite_position(s)) {
+                ++st.non_finite;
+                continue;
+            }
+            lat = s.lat_deg;
+            lon = s.lon_deg;
+            const double h = s.height_m + (s.has(F::kHeightIsMsl) ? options.undulation_m : 0.0);
+            pos.emplace(t, frame.local_from_geodetic(s.lat_deg, s.lon_deg, h));
+        }
+        if (s.has(F::kVelocity) && s.velocity_ned_mps.allFinite())
+            vel.emplace(t, frame.local_velocity(s.velocity_ned_mps, lat, lon));
+        if (s.has(F::kAttitude)) {
+            if (!finite_attitude(s)) {
+                ++st.non_finite;
+                continue;
+            }
+            att.emplace(t, frame.local_attitude(s.roll_rad, s.pitch_rad, s.heading_rad, lat, lon));
+        } else if (s.has(F::kHeading) && std::isfinite(s.heading_rad)) {
+            heading_att.emplace(t, frame.local_attitude(0.0, 0.0, s.heading_rad, lat, lon));
+        }
+    }
+    if (att.empty() && !heading_att.empty()) {
+        att = std::move(heading_att);
+        st.heading_only = true;
+    }
+    st.positions = pos.size();
+    st.attitudes = att.size();
+    if (pos.empty() || att.empty())
+        throw ConfigError(fmt::format(
+            "nav log '{}': no usable pose ({} positions, {} attitudes from {} timed samples; "
+            "{} rejected messages) — is --nav-protocol {} right?",
+            log.path, pos.size(), att.size(), log.samples.size(), log.stats.rejected(),
+            to_string(log.protocol)));
+
+    const auto position_at = [&](std::int64_t t) -> Eigen::Vector3d {
+        auto hi = pos.lower_bound(t);
+        if (hi != pos.end() && hi->first == t) return hi->second;
+        if (hi != pos.begin() && hi != pos.end()) {
+            auto lo = std::prev(hi);
+            const double u = double(t - lo->first) / double(hi->first - lo->first);
+            return lo->second + u * (hi->second - lo->second);
+        }
+        // Outside the fixes: dead-reckon with the velocity reported nearest that end.
+        const auto& end = hi == pos.end() ? *pos.rbegin() : *pos.begin();
+        const std::int64_t dt = t - end.first;
+        if (vel.empty() || std::llabs(dt) > kExtrapolateNs) return end.second;
+        auto v = vel.lower_bound(end.first);
+        if (v == vel.end()) v = std::prev(v);
+        if (v != vel.begin() && std::llabs(std::prev(v)->first - end.first) <
+                                    std::llabs(v->first - end.first))
+            v = std::prev(v);
+        return end.second + v->second * (double(dt) * 1e-9);
+    };
+    const auto attitude_at = [&](std::int64_t t) -> Eigen::Quaterniond {
+        auto hi = att.lower_bound(t);
+        if (hi == att.end()) return att.rbegin()->second;
+        if (hi->first == t || hi == att.begin()) return hi->second;
+        auto lo = std::prev(hi);
+        const double u = double(t - lo->first) / double(hi->first - lo->first);
+        return lo->second.slerp(u, hi->second);
+    };
+
+    std::map<std::int64_t, int> times;
+    for (const auto& [t, p] : pos) times.emplace(t, 0);
+    for (const auto& [t, q] : att) times.emplace(t, 0);
+    std::vector<core::StampedPose> samples;
+    samples.reserve(times.size());
+    for (const auto& kv : times) {
+        const std::int64_t t = kv.first;
+        core::StampedPose sp;
+        sp.t = core::GpsTime(core::Nanos(t));
+        sp.pose.position = position_at(t);
+        sp.pose.attitude = attitude_at(t);
+        samples.push_back(sp);
+    }
+    st.poses = samples.size();
+    if (stats_out) *stats_out = st;
+    return core::Trajectory(std::move(samples), options.interpolation);
+}
+
+navpose::NavFrame parse_nav_origin(const std::string& spec) {
+    std::vector<double> v;
+    std::stringstream ss(spec);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            std::size_t used = 0;
+            const double x = std::stod(item, &used);
+            if (used != item.size() || !std::isfinite(x)) throw std::invalid_argument(item);
+            v.push_back(x);
+        } catch (const std::exception&) {
+            throw ConfigError("--nav-origin '" + spec + "': '" + item + "' is not a number");
+        }
+    }
+    if (v.size() != 3 || std::abs(v[0]) > 90.0 || std::abs(v[1]) > 180.0)
+        throw ConfigError("--nav-origin '" + spec +
+                          "': expected lat,lon,h (degrees, degrees, metres above the ellipsoid)");
+    return navpose::NavFrame::tangent_plane(v[0], v[1], v[2]);
+}
+
+std::string nav_log_summary(const NavLog& log) {
+    const auto& s = log.stats;
+    const auto& d = s.decode;
+    std::string out = fmt::format(
+        "nav log '{}' ({}): {} bytes, {} {}, {} timed samples ({} without time); skipped: {} "
+        "bad checksum, {} truncated, {} invalid fields, {} garbage bytes, {} unsupported",
+        log.path, to_string(log.protocol), s.bytes, s.messages,
+        is_can(log.protocol) ? "frames" : "messages", log.samples.size(), s.untimed_samples,
+        d.bad_checksum, d.truncated, d.invalid_field, d.garbage_bytes, d.unsupported);
+    if (is_can(log.protocol))
+        out += fmt::format(", {} malformed candump lines", s.candump.rejected()) +
+               (s.candump.first_bad_line
+                    ? fmt::format(" (first: line {})", s.candump.first_bad_line)
+                    : std::string());
+    if (s.nmea_date_assumed) out += "; no RMC/ZDA in the log: the host's date was assumed";
+    return out;
+}
+
+}  // namespace mirage::hil
