@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 
 #include "mirage/core/error.hpp"
 #include "mirage/navcan/oxts_can.hpp"
@@ -21,13 +23,8 @@ namespace {
 // Decoders for byte protocols ignore CAN frames and vice versa (counted as unsupported).
 class NmeaAdapter : public NavDecoder {
   public:
-    NmeaAdapter() {
-        // Until the first RMC/ZDA, assume the host's UTC date (the decoder corrects a
-        // midnight on either side by the time of day).
-        const auto unix_s = std::chrono::duration_cast<std::chrono::seconds>(
-                                std::chrono::system_clock::now().time_since_epoch())
-                                .count();
-        d_.set_date_hint(nmea::Date::from_unix_days(unix_s / 86'400));
+    explicit NmeaAdapter(const std::optional<nmea::Date>& hint) {
+        if (hint) d_.set_date_hint(*hint);
     }
     void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
         d_.feed(b, fn);
@@ -223,9 +220,30 @@ NavUri parse_nav_uri(const std::string& uri) {
     return u;
 }
 
-std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p) {
+namespace {
+
+// Until the first RMC/ZDA: the host's UTC date for live input (the decoder corrects a midnight
+// on either side by the time of day), none for a recorded log, or a given date.
+std::optional<nmea::Date> nmea_date_hint(const std::string& spec) {
+    if (spec == "host") {
+        const auto unix_s = std::chrono::duration_cast<std::chrono::seconds>(
+                                std::chrono::system_clock::now().time_since_epoch())
+                                .count();
+        return nmea::Date::from_unix_days(unix_s / 86'400);
+    }
+    if (spec == "stream") return std::nullopt;
+    int y = 0, m = 0, d = 0;
+    char tail = 0;
+    if (std::sscanf(spec.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) == 3)
+        if (const auto date = nmea::make_date(y, m, d)) return *date;
+    throw ConfigError("nav: NMEA date '" + spec + "': expected host, stream or YYYY-MM-DD");
+}
+
+}  // namespace
+
+std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& nmea_date) {
     switch (p) {
-    case NavProtocol::Nmea: return std::make_unique<NmeaAdapter>();
+    case NavProtocol::Nmea: return std::make_unique<NmeaAdapter>(nmea_date_hint(nmea_date));
     case NavProtocol::Novatel: return std::make_unique<NovatelAdapter>();
     case NavProtocol::Ncom: return std::make_unique<NcomAdapter>();
     case NavProtocol::OxtsCan: return std::make_unique<CanAdapter<navcan::OxtsCanDecoder>>();

@@ -40,7 +40,10 @@ class NavDecoder {
     virtual void feed_frame(const nav::CanFrame& frame, const nav::SampleFn& fn) = 0;
     virtual nav::DecodeCounters counters() const = 0;
 };
-std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p);
+// `nmea_date`: the UTC date NMEA sentences are dated with until an RMC or ZDA gives one —
+// "host" (the host's date: live input), "stream" (none: sentences before the first date are
+// dropped; recorded logs of another day) or "YYYY-MM-DD". Throws ConfigError otherwise.
+std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& nmea_date = "host");
 
 // The fake INS's encoder: one epoch of a perfect INS (`s` has time, position, attitude,
 // velocity) as the bytes or CAN frames the protocol sends for it. `epoch` counts from 0 so

@@ -8,7 +8,6 @@
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
-#include "mirage/nmea/nmea_decoder.hpp"
 #include "nav_recorder.hpp"
 
 namespace mirage::hil {
@@ -22,40 +21,6 @@ void tally(navpose::AddStatus st, bool& applied, bool& rejected) {
         applied = true;
     else if (st != navpose::AddStatus::Duplicate)
         rejected = true;
-}
-
-// NMEA with a chosen date hint (or none). nav_codec's adapter always hints the host's date;
-// this one lets a recorded log of another day take its date from its own RMC/ZDA.
-class NmeaDateAdapter : public NavDecoder {
-  public:
-    explicit NmeaDateAdapter(const std::optional<nmea::Date>& hint) {
-        if (hint) d_.set_date_hint(*hint);
-    }
-    void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
-        d_.feed(b, fn);
-    }
-    void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_; }
-    nav::DecodeCounters counters() const override {
-        auto c = d_.counters();
-        c.unsupported += other_;
-        return c;
-    }
-
-  private:
-    nmea::NmeaDecoder d_;
-    std::uint64_t other_ = 0;
-};
-
-std::unique_ptr<NavDecoder> make_decoder(NavProtocol p, const std::string& nmea_date) {
-    if (p != NavProtocol::Nmea || nmea_date == "host") return make_nav_decoder(p);
-    if (nmea_date == "stream") return std::make_unique<NmeaDateAdapter>(std::nullopt);
-    int y = 0, m = 0, d = 0;
-    char tail = 0;
-    if (std::sscanf(nmea_date.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) == 3) {
-        if (const auto date = nmea::make_date(y, m, d))
-            return std::make_unique<NmeaDateAdapter>(*date);
-    }
-    throw ConfigError("live: --nav-date '" + nmea_date + "': expected host, stream or YYYY-MM-DD");
 }
 
 }  // namespace
@@ -72,7 +37,7 @@ NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuff
       undulation_m_(options.undulation_m),
       pose_log_(options.pose_log),
       record_(options.record),
-      decoder_(make_decoder(uri.protocol, options.nmea_date)) {
+      decoder_(make_nav_decoder(uri.protocol, options.nmea_date)) {
     if (is_can(uri.protocol)) {
         bus_ = can::open_can_bus(uri.transport);
     } else {
