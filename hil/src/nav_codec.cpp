@@ -220,8 +220,6 @@ NavUri parse_nav_uri(const std::string& uri) {
     return u;
 }
 
-namespace {
-
 // Until the first RMC/ZDA: the host's UTC date for live input (the decoder corrects a midnight
 // on either side by the time of day), none for a recorded log, or a given date.
 std::optional<nmea::Date> nmea_date_hint(const std::string& spec) {
@@ -239,7 +237,6 @@ std::optional<nmea::Date> nmea_date_hint(const std::string& spec) {
     throw ConfigError("nav: NMEA date '" + spec + "': expected host, stream or YYYY-MM-DD");
 }
 
-}  // namespace
 
 std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& nmea_date) {
     switch (p) {

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "mirage/nav/can_frame.hpp"
 #include "mirage/nav/decode_counters.hpp"
 #include "mirage/nav/nav_sample.hpp"
+#include "mirage/nmea/fields.hpp"
 
 namespace mirage::hil {
 
@@ -44,6 +46,8 @@ class NavDecoder {
 // "host" (the host's date: live input), "stream" (none: sentences before the first date are
 // dropped; recorded logs of another day) or "YYYY-MM-DD". Throws ConfigError otherwise.
 std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& nmea_date = "host");
+// The date hint of such a spec (nullopt for "stream"). Throws ConfigError on anything else.
+std::optional<nmea::Date> nmea_date_hint(const std::string& spec);
 
 // The fake INS's encoder: one epoch of a perfect INS (`s` has time, position, attitude,
 // velocity) as the bytes or CAN frames the protocol sends for it. `epoch` counts from 0 so

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "nav_log.hpp"
+#include "nav_codec.hpp"
 
 #include <fmt/format.h>
 
@@ -36,13 +37,6 @@ std::vector<std::uint8_t> read_all(const std::string& path) {
     return out;
 }
 
-nmea::Date host_date() {
-    const auto unix_s = std::chrono::duration_cast<std::chrono::seconds>(
-                            std::chrono::system_clock::now().time_since_epoch())
-                            .count();
-    return nmea::Date::from_unix_days(unix_s / 86'400);
-}
-
 // The UTC date of the log's first timed sentence, found by a pass without a date hint (which
 // drops everything before the first RMC/ZDA); the real pass then starts on that date.
 std::optional<nmea::Date> nmea_log_date(std::span<const std::uint8_t> bytes) {
@@ -57,21 +51,14 @@ std::optional<nmea::Date> nmea_log_date(std::span<const std::uint8_t> bytes) {
     return nmea::Date::from_unix_days(days);
 }
 
-nmea::Date parse_date_option(const std::string& text) {
-    int y = 0, m = 0, d = 0;
-    char tail = 0;
-    if (std::sscanf(text.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) == 3)
-        if (const auto date = nmea::make_date(y, m, d)) return *date;
-    throw ConfigError("nav log: --nav-date '" + text + "': expected YYYY-MM-DD");
-}
-
 // NMEA: one message per line; a line's time is that of the timed sample it yields.
 void split_nmea(NavLog& log, const NavLogOptions& opt) {
     nmea::NmeaDecoder d;
     if (auto date = nmea_log_date(log.bytes)) {
         d.set_date_hint(*date);
     } else {
-        d.set_date_hint(opt.nmea_date.empty() ? host_date() : parse_date_option(opt.nmea_date));
+        if (const auto hint = nmea_date_hint(opt.nmea_date.empty() ? "host" : opt.nmea_date))
+            d.set_date_hint(*hint);
         log.stats.nmea_date_assumed = opt.nmea_date.empty();
     }
     const std::span<const std::uint8_t> all(log.bytes);
