@@ -28,13 +28,15 @@ asan: deps
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ctest --output-on-failure -j $(JOBS) -L unit
 
-# libFuzzer (Clang) on the packet decoders under ASan+UBSan, FUZZ_SECONDS each, with a corpus
+# libFuzzer (Clang) on the packet and navigation decoders under ASan+UBSan, FUZZ_SECONDS each, with a corpus
 # kept in build-fuzz/corpus.
 FUZZ_SECONDS ?= 30
+FUZZ_TARGETS = fuzz_velodyne_decode fuzz_ouster_decode fuzz_nmea fuzz_novatel fuzz_ncom \
+               fuzz_navcan fuzz_slcan_bus fuzz_gsusb
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
-	cmake --build build-fuzz -j $(JOBS) --target fuzz_velodyne_decode fuzz_ouster_decode
-	scripts/run-fuzz build-fuzz $(FUZZ_SECONDS)
+	cmake --build build-fuzz -j $(JOBS) --target $(FUZZ_TARGETS)
+	FUZZ_TARGETS="$(FUZZ_TARGETS)" scripts/run-fuzz build-fuzz $(FUZZ_SECONDS)
 
 bench: build
 	$(BUILD)/hil/mirage bench
