@@ -2,6 +2,7 @@
 #include "mirage/navcan/oxts_can.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "bits.hpp"
@@ -65,8 +66,9 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
         const auto year = static_cast<std::int64_t>(d[1]) * 100 + d[0];
         const unsigned month = d[2], day = d[3], hsec = d[4], sec = d[5], min = d[6], hour = d[7];
         // GPS time has no leap seconds, so second 60 is invalid here.
-        if (d[0] > 99 || !detail::valid_date(year, month, day) || hsec > 99 || sec > 59 ||
-            min > 59 || hour > 23) {
+        // Years outside 1980-2200 are no GPS time an INS sends, and would overflow int64 ns.
+        if (d[0] > 99 || year < 1980 || year > 2200 || !detail::valid_date(year, month, day) ||
+            hsec > 99 || sec > 59 || min > 59 || hour > 23) {
             return bad();
         }
         const std::int64_t days = detail::days_from_civil(year, month, day) - kGpsEpochDays;
@@ -78,7 +80,8 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
         part = kMilliTime;
         if (!need(6)) return false;
         const std::int64_t ms = detail::get_s(d, 0, 48);
-        if (ms < 0) return bad();
+        // Beyond ~2272 the count would overflow int64 nanoseconds.
+        if (ms < 0 || ms > std::numeric_limits<std::int64_t>::max() / 1'000'000) return bad();
         milli_time_ns_ = ms * 1'000'000;
         if (f.len >= 7) utc_offset_s_ = static_cast<int>(detail::get_s(d, 48, 8));
         return true;
