@@ -604,12 +604,18 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     return stats;
 }
 
+// The environment and options are copied: PulseShader keeps references, and callers may pass
+// temporaries. Scene, renderer and sensor must outlive the WindowRenderer.
 struct WindowRenderer::Impl {
+    Impl(const scene::Scene& scene, const Renderer& r, const sensor::SensorModel& s,
+         const core::Mount& m, const physics::Environment& e, const RenderOptions& o)
+        : renderer(r), sensor(s), mount(m), env(e), opt(o), shader(scene, s, env, opt) {}
     const Renderer& renderer;
     const sensor::SensorModel& sensor;
     core::Mount mount;
-    GpsTime start;
-    PulseShader shader;
+    physics::Environment env;
+    RenderOptions opt;
+    PulseShader shader;  // after env and opt, which it refers to
     ChunkGeometry g;
     std::vector<Hit> hits;
     ChunkResult result;
@@ -618,8 +624,7 @@ struct WindowRenderer::Impl {
 WindowRenderer::WindowRenderer(const scene::Scene& scene, const Renderer& renderer,
                                const sensor::SensorModel& sensor, const core::Mount& mount,
                                const physics::Environment& env, const RenderOptions& opt)
-    : impl_(new Impl{renderer, sensor, mount, opt.start, PulseShader(scene, sensor, env, opt),
-                     {}, {}, {}}) {}
+    : impl_(std::make_unique<Impl>(scene, renderer, sensor, mount, env, opt)) {}
 
 WindowRenderer::~WindowRenderer() = default;
 
@@ -627,7 +632,7 @@ void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t fi
                             std::size_t n, std::vector<core::PointRecord>& out,
                             RenderStats& stats) {
     Impl& m = *impl_;
-    const ChunkBuilder builder(m.sensor, trajectory, m.mount, m.start);
+    const ChunkBuilder builder(m.sensor, trajectory, m.mount, m.opt.start);
     m.result.points.swap(out);
     m.result.stats = {};
     const std::size_t batch = trace_batch_pulses(m.sensor);

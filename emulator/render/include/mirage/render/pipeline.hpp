@@ -67,7 +67,8 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
 
 // Renders a few pulses at a time on the calling thread, for live emulation: a packet's worth of
 // pulses just in time, with the poses an INS has reported by then. Same physics and per-pulse
-// randomness as render(), so its points equal render()'s for the same pulses and poses.
+// randomness as render(), so its points equal render()'s for the same pulses and poses. The scene,
+// renderer and sensor must outlive it; the mount, environment and options are copied.
 class WindowRenderer {
   public:
     WindowRenderer(const scene::Scene& scene, const Renderer& renderer,
