@@ -123,19 +123,9 @@ void register_emulate(CLI::App& app) {
         po.status_line = !o->no_status;
         po.fifo_priority = o->rt_priority;
         po.pcap_path = o->pcap;
-        udp::StreamPorts ports;
-        ports.data = o->data_port ? o->data_port : (ouster ? 7502 : 2368);
-        ports.position = ouster ? 0 : o->position_port;
-        ports.imu = ouster ? o->imu_port : 0;
-        po.pcap_source_ports = {ports.data, ports.position, ports.imu};
-        po.pcap_dest_ports = ports;
-        if (!o->to.empty()) {
-            udp::SenderConfig sc;
-            sc.host = o->to;
-            sc.ports = ports;
-            sc.source_ports.data = o->source_port;
-            po.udp = sc;
-        }
+        const udp::StreamPorts ports =
+            sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
+        route_streams(po, ports, o->to, o->source_port);
         // The encoder first: it checks the model's settings (rpm range, profile) before any
         // socket or file is opened.
         WireOptions wo = o->wire;

@@ -273,18 +273,9 @@ void register_live(CLI::App& app) {
         po.status_line = false;
         po.fifo_priority = o->rt_priority;
         po.pcap_path = o->pcap;
-        udp::StreamPorts ports;
-        ports.data = o->data_port ? o->data_port : (ouster ? 7502 : 2368);
-        ports.position = ouster ? 0 : o->position_port;
-        ports.imu = ouster ? o->imu_port : 0;
-        po.pcap_source_ports = {ports.data, ports.position, ports.imu};
-        po.pcap_dest_ports = ports;
-        if (!o->to.empty()) {
-            udp::SenderConfig sc;
-            sc.host = o->to;
-            sc.ports = ports;
-            po.udp = sc;
-        }
+        const udp::StreamPorts ports =
+            sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
+        route_streams(po, ports, o->to);
         WireOptions wo = o->wire;
         wo.position_packets = ports.position != 0;
         wo.imu_packets = ports.imu != 0;

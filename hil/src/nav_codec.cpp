@@ -21,50 +21,19 @@ namespace mirage::hil {
 namespace {
 
 // Decoders for byte protocols ignore CAN frames and vice versa (counted as unsupported).
-class NmeaAdapter : public NavDecoder {
+template <class D>
+class ByteAdapter : public NavDecoder {
   public:
-    explicit NmeaAdapter(const std::optional<nmea::Date>& hint) {
-        if (hint) d_.set_date_hint(*hint);
-    }
+    D& decoder() { return d_; }
     void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
         d_.feed(b, fn);
     }
-    void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_; }
-    nav::DecodeCounters counters() const override {
-        auto c = d_.counters();
-        c.unsupported += other_;
-        return c;
-    }
-
-  private:
-    nmea::NmeaDecoder d_;
-    std::uint64_t other_ = 0;
-};
-
-class NovatelAdapter : public NavDecoder {
-  public:
-    void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
-        d_.feed(b, fn);
-    }
-    void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_; }
-    nav::DecodeCounters counters() const override {
-        auto c = d_.counters();
-        c.unsupported += other_;
-        return c;
-    }
-
-  private:
-    novatel::NovatelDecoder d_;
-    std::uint64_t other_ = 0;
-};
-
-class NcomAdapter : public NavDecoder {
-  public:
-    void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
-        d_.feed(b, fn);
-    }
+    // NCOM knows datagrams (several whole packets); the others read them as bytes.
     void feed_datagram(std::span<const std::uint8_t> b, const nav::SampleFn& fn) override {
-        d_.feed_datagram(b, fn);
+        if constexpr (requires { d_.feed_datagram(b, fn); })
+            d_.feed_datagram(b, fn);
+        else
+            d_.feed(b, fn);
     }
     void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_; }
     nav::DecodeCounters counters() const override {
@@ -74,7 +43,7 @@ class NcomAdapter : public NavDecoder {
     }
 
   private:
-    ncom::NcomDecoder d_;
+    D d_;
     std::uint64_t other_ = 0;
 };
 
@@ -240,9 +209,13 @@ std::optional<nmea::Date> nmea_date_hint(const std::string& spec) {
 
 std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& nmea_date) {
     switch (p) {
-    case NavProtocol::Nmea: return std::make_unique<NmeaAdapter>(nmea_date_hint(nmea_date));
-    case NavProtocol::Novatel: return std::make_unique<NovatelAdapter>();
-    case NavProtocol::Ncom: return std::make_unique<NcomAdapter>();
+    case NavProtocol::Nmea: {
+        auto a = std::make_unique<ByteAdapter<nmea::NmeaDecoder>>();
+        if (const auto hint = nmea_date_hint(nmea_date)) a->decoder().set_date_hint(*hint);
+        return a;
+    }
+    case NavProtocol::Novatel: return std::make_unique<ByteAdapter<novatel::NovatelDecoder>>();
+    case NavProtocol::Ncom: return std::make_unique<ByteAdapter<ncom::NcomDecoder>>();
     case NavProtocol::OxtsCan: return std::make_unique<CanAdapter<navcan::OxtsCanDecoder>>();
     case NavProtocol::SbgCan: return std::make_unique<CanAdapter<navcan::SbgCanDecoder>>();
     }

@@ -10,6 +10,27 @@
 #include "mirage/udp/pacing_probe.hpp"
 
 namespace mirage::hil {
+
+udp::StreamPorts sensor_ports(bool ouster, std::uint16_t data, std::uint16_t position,
+                              std::uint16_t imu) {
+    udp::StreamPorts ports;
+    ports.data = data ? data : (ouster ? 7502 : 2368);
+    ports.position = ouster ? 0 : position;
+    ports.imu = ouster ? imu : 0;
+    return ports;
+}
+
+void route_streams(PacketOutputOptions& po, const udp::StreamPorts& ports,
+                   const std::string& host, std::uint16_t source_port) {
+    po.pcap_source_ports = {ports.data, ports.position, ports.imu};
+    po.pcap_dest_ports = ports;
+    if (host.empty()) return;
+    udp::SenderConfig sc;
+    sc.host = host;
+    sc.ports = ports;
+    sc.source_ports.data = source_port;
+    po.udp = sc;
+}
 namespace {
 
 udp::PacerConfig pacer_config(const PacketOutputOptions& o) {

@@ -46,6 +46,15 @@ struct PacketOutputTotals {
     std::string fifo_error;  // why not, when it was asked for
 };
 
+// A sensor's UDP streams: data on `data` or the vendor's port (2368 Velodyne, 7502 Ouster),
+// Velodyne position / Ouster IMU on theirs (0 = off); the family's other stream is off.
+udp::StreamPorts sensor_ports(bool ouster, std::uint16_t data, std::uint16_t position,
+                              std::uint16_t imu);
+// Sends those streams to `host` (none when empty; data from `source_port` when non-zero) and
+// labels the pcap's packets with the same ports.
+void route_streams(PacketOutputOptions& po, const udp::StreamPorts& ports,
+                   const std::string& host, std::uint16_t source_port = 0);
+
 // Where packets go: paced by absolute deadlines on the sensor clock, sent over UDP, written to a
 // pcap with their sensor-clock send times, and summarised in a status line once a second.
 class PacketOutput {
