@@ -1,6 +1,9 @@
 # Warnings and sanitizers for Mirage's own targets only (never global flags).
 function(mirage_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wconversion -Wimplicit-fallthrough)
+  # No code reads errno after a math call; without this, sqrt/floor/lround cannot be inlined
+  # in the per-pulse loops.
+  target_compile_options(${target} PRIVATE -fno-math-errno)
   if(MIRAGE_NATIVE)
     target_compile_options(${target} PRIVATE -march=native)
   endif()

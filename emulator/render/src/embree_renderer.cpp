@@ -89,6 +89,15 @@ struct EmbreeRenderer::Impl {
     std::vector<std::uint32_t> top_mesh;
     std::vector<std::uint32_t> top_instance;
     std::vector<Eigen::Matrix3f> instance_normal;  // indexed by Scene::instances index
+    // What a hit needs per top-scene geomID, flattened so make_hit chases no scene pointers.
+    struct Slot {
+        std::uint32_t mesh = kInvalidId, instance = kInvalidId;
+        std::uint32_t material = kInvalidId;          // the mesh's only material, else kInvalidId
+        const std::uint32_t* per_triangle = nullptr;  // one material per triangle, if so
+        std::size_t per_triangle_count = 0;
+        const Eigen::Matrix3f* normal_matrix = nullptr;  // instances: inverse transpose
+    };
+    std::vector<Slot> slots;
     EmbreeBuildStats stats;
 
     std::mutex error_mutex;
@@ -187,11 +196,23 @@ struct EmbreeRenderer::Impl {
         top_instance[id] = instance;
     }
 
-    std::uint32_t material_of(std::uint32_t mesh, std::uint32_t prim) const {
-        const auto& mats = scene->meshes[mesh].materials;
-        if (mats.size() == 1) return mats[0];
-        if (prim < mats.size()) return mats[prim];
-        return kInvalidId;
+    // Fills `slots` once the top scene is complete.
+    void build_slots() {
+        slots.assign(top_mesh.size(), Slot{});
+        for (std::size_t id = 0; id < slots.size(); ++id) {
+            Slot& sl = slots[id];
+            sl.instance = top_instance[id];
+            sl.mesh = sl.instance != kInvalidId ? scene->instances[sl.instance].mesh : top_mesh[id];
+            if (sl.mesh == kInvalidId) continue;
+            const auto& mats = scene->meshes[sl.mesh].materials;
+            if (mats.size() == 1) {
+                sl.material = mats[0];
+            } else {
+                sl.per_triangle = mats.data();
+                sl.per_triangle_count = mats.size();
+            }
+            if (sl.instance != kInvalidId) sl.normal_matrix = &instance_normal[sl.instance];
+        }
     }
 
     // Converts one Embree hit; `ng` is Embree's unnormalised normal (object space if instanced).
@@ -201,17 +222,21 @@ struct EmbreeRenderer::Impl {
         if (geom == RTC_INVALID_GEOMETRY_ID) return h;
         h.t = t;
         h.primitive = prim;
-        if (inst != RTC_INVALID_GEOMETRY_ID && inst < top_instance.size()) {
-            h.instance = top_instance[inst];
-            h.mesh = scene->instances[h.instance].mesh;
-            ng = instance_normal[h.instance] * ng;
-        } else if (geom < top_mesh.size()) {
-            h.mesh = top_mesh[geom];
+        // Instances are top-level geometries, so instID[0] (or else geomID) names the slot.
+        const unsigned id = inst != RTC_INVALID_GEOMETRY_ID ? inst : geom;
+        if (id < slots.size()) {
+            const Slot& sl = slots[id];
+            h.instance = sl.instance;
+            h.mesh = sl.mesh;
+            h.material = sl.material != kInvalidId      ? sl.material
+                         : prim < sl.per_triangle_count ? sl.per_triangle[prim]
+                                                        : kInvalidId;
+            if (sl.normal_matrix) ng = *sl.normal_matrix * ng;
         }
-        h.material = h.mesh == kInvalidId ? kInvalidId : material_of(h.mesh, prim);
-        const float len = ng.norm();
-        Eigen::Vector3f n =
-            (len > 0.0f && std::isfinite(len)) ? Eigen::Vector3f(ng / len) : Eigen::Vector3f(-dir);
+        const float len2 = ng.squaredNorm();
+        Eigen::Vector3f n = (len2 > 0.0f && std::isfinite(len2))
+                                ? Eigen::Vector3f(ng * (1.0f / std::sqrt(len2)))
+                                : Eigen::Vector3f(-dir);
         if (n.dot(dir) > 0.0f) n = -n;  // face the ray
         h.nx = n.x();
         h.ny = n.y();
@@ -366,6 +391,7 @@ EmbreeRenderer::EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt)
     }
 
     im.commit(im.top);
+    im.build_slots();
     const std::int64_t total = im.bytes.load();
     im.stats.bvh_bytes = total > 0 ? static_cast<std::uint64_t>(total) : 0;
 }

@@ -186,6 +186,34 @@ struct ChunkResult {
     RenderStats stats;
 };
 
+// Atmospheric transmission of one pulse: one exponential at its first hit; other ranges (its
+// sub-rays and returns, within metres) scale it by exp(−αΔR) from a cubic series whose error,
+// x⁴/24 with |x| < 1e-3, is below 1e-13 relative.
+class Transmission {
+  public:
+    double two_way(double range, double alpha2) {
+        if (ref_range_ >= 0.0) {
+            const double x = -alpha2 * (range - ref_range_);
+            if (std::abs(x) < 1e-3) return ref_tau1_ * ref_tau1_ * series(x);
+            return std::exp(-alpha2 * range);
+        }
+        ref_range_ = range;
+        ref_tau1_ = std::exp(-0.5 * alpha2 * range);
+        return ref_tau1_ * ref_tau1_;
+    }
+    double one_way(double range, double alpha) const {
+        if (ref_range_ >= 0.0) {
+            const double x = -alpha * (range - ref_range_);
+            if (std::abs(x) < 1e-3) return ref_tau1_ * series(x);
+        }
+        return std::exp(-alpha * range);
+    }
+
+  private:
+    static double series(double x) { return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0))); }
+    double ref_range_ = -1.0, ref_tau1_ = 1.0;
+};
+
 class PulseShader {
   public:
     PulseShader(const scene::Scene& scene, const sensor::SensorModel& sensor,
@@ -199,7 +227,21 @@ class PulseShader {
           to_sun_(env.sun.to_sun_enu()),
           // Sub-ray hits closer than the pulse's range resolution merge into one return.
           separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s),
-          log_range_(opt.intensity.log_range()) {}
+          log_range_(opt.intensity.log_range()),
+          // Received power of unit weight, range, BRDF, incidence and transmission: every
+          // sub-ray's power is this times w·brdf·cos θ·τ²/R² (eqs. 2–4 with the constants folded).
+          power_k_(radiometry_.laser_power_w(1.0, 1.0, 1.0, 1.0, 1.0)),
+          inv_resolution_(sensor.receiver.range_resolution_m > 0.0
+                              ? 1.0 / sensor.receiver.range_resolution_m
+                              : 0.0) {
+        // Per material, the BRDF terms that do not depend on incidence (diffuse and retro);
+        // only materials with a specular lobe evaluate monostatic_brdf per hit.
+        for (const scene::Material& m : scene.materials) {
+            double f = m.reflectance / std::numbers::pi;
+            if (m.retroreflective) f += m.retro_gain;
+            brdf_terms_.push_back({f, m.specular > 0.0});
+        }
+    }
 
     void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ChunkResult& out) const {
@@ -208,17 +250,17 @@ class PulseShader {
         const auto& rx = sensor_.receiver;
         std::vector<Contribution> contrib;
         contrib.reserve(s_count);
-        const double alpha2 = 2.0 * env_.atmosphere.extinction_per_m;
+        const double alpha = env_.atmosphere.extinction_per_m, alpha2 = 2.0 * alpha;
+        // Power of each sub-ray per unit brdf·cos θ·τ²/R².
+        weighted_k_.resize(s_count);
+        for (std::size_t s = 0; s < s_count; ++s) weighted_k_[s] = subrays[s].weight * power_k_;
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint64_t pulse = first + i;
             const Hit* h = &hits[g.first_ray[i]];
             const Ray* ray = &g.rays[g.first_ray[i]];
             contrib.clear();
             bool any_close = false;
-            // Two-way transmission exp(−2αR): one exponential per pulse at its first hit; the
-            // other sub-rays (within a few m) scale it by exp(−2αΔR) from a cubic series whose
-            // error, x⁴/24 with |x| < 1e-3, is below 1e-13 relative.
-            double ref_range = -1.0, ref_tau2 = 1.0;
+            Transmission tau{};
             for (std::size_t s = 0; s < s_count; ++s) {
                 if (!h[s].hit()) continue;
                 const double range = h[s].t;
@@ -227,23 +269,17 @@ class PulseShader {
                     continue;
                 }
                 if (range > rx.max_range_m) continue;
-                const double cos_inc = std::abs(
-                    double(ray[s].dx * h[s].nx + ray[s].dy * h[s].ny + ray[s].dz * h[s].nz));
-                const scene::Material& m = scene_.materials[h[s].material];
-                const double brdf = physics::monostatic_brdf(m, cos_inc);
-                double tau2;
-                const double x = -alpha2 * (range - ref_range);
-                if (ref_range >= 0.0 && std::abs(x) < 1e-3) {
-                    tau2 = ref_tau2 * (1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0))));
-                } else {
-                    tau2 = std::exp(-alpha2 * range);
-                    if (ref_range < 0.0) {
-                        ref_range = range;
-                        ref_tau2 = tau2;
-                    }
-                }
+                const double cos_inc =
+                    std::min(1.0, std::abs(double(ray[s].dx * h[s].nx + ray[s].dy * h[s].ny +
+                                                  ray[s].dz * h[s].nz)));
+                const BrdfTerms& bt = brdf_terms_[h[s].material];
+                const double brdf =
+                    bt.specular ? physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc)
+                                : bt.constant;
+                const double tau2 = tau.two_way(range, alpha2);
+                // A surface seen edge-on (cos θ = 0, or NaN) returns nothing: power 0.
                 const double p =
-                    radiometry_.laser_power_w(subrays[s].weight, range, brdf, cos_inc, tau2);
+                    cos_inc > 0.0 ? weighted_k_[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
                 contrib.push_back({range, p, static_cast<std::uint32_t>(s)});
             }
             out.stats.pulses++;
@@ -254,14 +290,15 @@ class PulseShader {
                     out.stats.misses++;
                 continue;
             }
-            emit_returns(pulse, g, i, h, contrib, out);
+            emit_returns(pulse, g, i, h, contrib, tau, alpha, out);
         }
         out.stats.rays += hits.size();
     }
 
   private:
     void emit_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
-                      std::vector<Contribution>& contrib, ChunkResult& out) const {
+                      std::vector<Contribution>& contrib, const Transmission& tau, double alpha,
+                      ChunkResult& out) const {
         const auto& rx = sensor_.receiver;
         // Group sub-ray hits into returns: sorted by range, split where the gap exceeds the
         // pulse's range resolution c·τ/2 (two surfaces closer than that blend into one echo).
@@ -350,8 +387,8 @@ class PulseShader {
                 const double cos_sun =
                     sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
                             : 0.0;
-                n_other = radiometry_.background_electrons(
-                    r.range_m, m.reflectance / std::numbers::pi, cos_sun);
+                n_other = radiometry_.background_electrons_tau(
+                    m.reflectance / std::numbers::pi, cos_sun, tau.one_way(r.range_m, alpha));
             }
             const double z = opt_.noise ? rng.normal() : 0.0;
             if (radiometry_.is_void(n_laser, n_other, z)) {
@@ -360,8 +397,9 @@ class PulseShader {
             }
             double range = r.range_m;
             if (range_sigma > 0.0) range += range_sigma * rng.normal();
-            if (rx.range_resolution_m > 0.0)
-                range = std::round(range / rx.range_resolution_m) * rx.range_resolution_m;
+            // Nearest multiple of the resolution (ranges are positive: floor(x + ½) is round).
+            if (inv_resolution_ > 0.0)
+                range = std::floor(range * inv_resolution_ + 0.5) * rx.range_resolution_m;
             Eigen::Vector3d d = g.direction[i];
             if (jitter > 0.0) {
                 // Platform jitter (seed 001 eq. 15): an angle about two axes orthogonal to the
@@ -370,8 +408,12 @@ class PulseShader {
                 orthonormal_basis(d, u, v);
                 const double tx = small_tan(jitter * rng.normal());
                 const double ty = small_tan(jitter * rng.normal());
-                // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
-                d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
+                // |d + tx·u + ty·v| = √(1 + e), e = tx² + ty², for orthonormal (d, u, v); for
+                // mrad jitter 1/√(1 + e) = 1 − e/2 + 3e²/8 with error below e³ < 1e-18.
+                const double e = tx * tx + ty * ty;
+                const double inv_len =
+                    e < 1e-6 ? 1.0 - e * (0.5 - 0.375 * e) : 1.0 / std::sqrt(1.0 + e);
+                d = (d + tx * u + ty * v) * inv_len;
             }
             const Eigen::Vector3d p = g.origin[i] + range * d;
             PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes
@@ -412,6 +454,14 @@ class PulseShader {
     Eigen::Vector3d to_sun_;
     double separation_m_;
     double log_range_;  // of the intensity calibration, computed once
+    double power_k_;
+    double inv_resolution_;
+    struct BrdfTerms {
+        double constant;  // ρ_d/π (+ retro gain): the whole BRDF without a specular lobe
+        bool specular;
+    };
+    std::vector<BrdfTerms> brdf_terms_;       // by material index
+    mutable std::vector<double> weighted_k_;  // per sub-ray, per shade() call (one per thread)
 };
 
 double thread_cpu_s() {
@@ -628,9 +678,8 @@ WindowRenderer::WindowRenderer(const scene::Scene& scene, const Renderer& render
 
 WindowRenderer::~WindowRenderer() = default;
 
-void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t first,
-                            std::size_t n, std::vector<core::PointRecord>& out,
-                            RenderStats& stats) {
+void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t first, std::size_t n,
+                            std::vector<core::PointRecord>& out, RenderStats& stats) {
     Impl& m = *impl_;
     const ChunkBuilder builder(m.sensor, trajectory, m.mount, m.opt.start);
     m.result.points.swap(out);

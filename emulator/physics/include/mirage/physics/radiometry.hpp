@@ -153,6 +153,8 @@ class Radiometry {
     // Background photo-electrons (eqs. 6–10): sun on the surface (cos θ₂ = sun·normal, ≤ 0 → 0)
     // plus path radiance, over the detector band and τ_int. `brdf_diffuse` is ρ_d/π (sr⁻¹).
     double background_electrons(double range_m, double brdf_diffuse, double cos_sun) const;
+    // The same with the one-way transmission τ(R) supplied (the pipeline shares exponentials).
+    double background_electrons_tau(double brdf_diffuse, double cos_sun, double tau) const;
     // Noise-floor electrons per unit standard normal (the first term of eq. 12 with δE = σ₁).
     double noise_floor_electrons() const { return noise_floor_e_; }
     // ΔN of eq. 12 for a drawn standard normal z (δE = σ₁·z).
@@ -206,24 +208,34 @@ inline double Radiometry::laser_power_w(double weight, double range_m, double br
 inline double Radiometry::laser_electrons(double power_w) const {
     return power_w * beam_.pulse_width_s * photons_per_joule_ * rx_.quantum_efficiency;
 }
-inline double Radiometry::background_electrons(double range_m, double brdf_diffuse,
-                                               double cos_sun) const {
+inline double Radiometry::background_electrons_tau(double brdf_diffuse, double cos_sun,
+                                                   double tau) const {
     double radiance = env_.path_radiance_w_m2_sr_um;  // eq. 9
     if (env_.sun.up() && cos_sun > 0.0) {
         // eqs. 6–8: sunlit surface radiance, attenuated on the way back to the receiver.
-        radiance += brdf_diffuse * env_.sun.irradiance_w_m2_um * std::min(cos_sun, 1.0) *
-                    env_.atmosphere.one_way(range_m);
+        radiance += brdf_diffuse * env_.sun.irradiance_w_m2_um * std::min(cos_sun, 1.0) * tau;
     }
     return radiance * background_e_per_w_;  // eq. 10
+}
+inline double Radiometry::background_electrons(double range_m, double brdf_diffuse,
+                                               double cos_sun) const {
+    const bool sunlit = env_.sun.up() && cos_sun > 0.0;
+    return background_electrons_tau(brdf_diffuse, cos_sun,
+                                    sunlit ? env_.atmosphere.one_way(range_m) : 1.0);
 }
 inline double Radiometry::delta_n(double n_laser, double n_other, double z) const {
     const double floor = noise_floor_e_ * z;
     return std::sqrt(floor * floor + std::max(n_laser, 0.0) + std::max(n_other, 0.0));
 }
 inline bool Radiometry::is_void(double n_laser, double n_other, double z) const {
-    return n_laser < rx_.threshold_gamma * delta_n(n_laser, n_other, z);
+    // N_laser < γ·ΔN compared squared (both sides ≥ 0 once N_laser ≥ 0): no square root per
+    // pulse. γ ≤ 0 never voids, as γ·ΔN ≤ 0 ≤ N_laser.
+    if (!(n_laser >= 0.0)) return true;
+    const double g = rx_.threshold_gamma;
+    if (!(g > 0.0)) return false;
+    const double floor = noise_floor_e_ * z;
+    return n_laser * n_laser < g * g * (floor * floor + n_laser + std::max(n_other, 0.0));
 }
-
 // Documented monotonic map from photo-electrons to integer intensity:
 // I = I_max · clamp(log(N/N_min) / log(N_max/N_min), 0, 1), rounded to nearest.
 // N ≤ N_min (also 0, negative, NaN) → 0; N ≥ N_max → I_max (65535 or 255). If the range is
@@ -237,7 +249,8 @@ struct IntensityCalibration {
     // two); to_u16(n) == to_u16(n, log_range()) exactly.
     double log_range() const { return std::log(n_max / n_min); }
     std::uint16_t to_u16(double n_laser, double log_range) const {
-        return static_cast<std::uint16_t>(std::lround(fraction(n_laser, log_range) * 65535.0));
+        // fraction ∈ [0, 1]: adding ½ and truncating rounds to nearest without a libm call.
+        return static_cast<std::uint16_t>(fraction(n_laser, log_range) * 65535.0 + 0.5);
     }
     // Fraction in [0, 1] of the log-scaled range (the map above before scaling).
     double fraction(double n, double log_range) const {
