@@ -275,36 +275,38 @@ struct EmbreeRenderer::Impl {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers group neighbouring rays
-        alignas(64) RTCRayHit16 rh;
+        alignas(64) RTCRayHit16 rh{};  // lanes past the last ray stay defined (and invalid)
         alignas(64) int valid[16];
+        // Embree never writes time, mask, id or flags: set them once, not per packet.
+        for (std::size_t k = 0; k < 16; ++k) {
+            rh.ray.time[k] = 0.0f;
+            rh.ray.mask[k] = 0xFFFFFFFFu;
+            rh.ray.id[k] = static_cast<unsigned>(k);
+            rh.ray.flags[k] = 0;
+        }
         for (std::size_t base = 0; base < rays.size(); base += 16) {
             const std::size_t n = std::min<std::size_t>(16, rays.size() - base);
-            for (std::size_t k = 0; k < 16; ++k) {
-                const bool on = k < n;
-                const Ray& r = rays[base + (on ? k : 0)];
-                valid[k] = on ? -1 : 0;
-                rh.ray.org_x[k] = r.ox;
-                rh.ray.org_y[k] = r.oy;
-                rh.ray.org_z[k] = r.oz;
-                rh.ray.tnear[k] = r.tnear;
-                rh.ray.dir_x[k] = r.dx;
-                rh.ray.dir_y[k] = r.dy;
-                rh.ray.dir_z[k] = r.dz;
-                rh.ray.time[k] = 0.0f;
-                rh.ray.tfar[k] = r.tfar;
-                rh.ray.mask[k] = 0xFFFFFFFFu;
-                rh.ray.id[k] = static_cast<unsigned>(k);
-                rh.ray.flags[k] = 0;
+            const Ray* r = rays.data() + base;
+            for (std::size_t k = 0; k < n; ++k) {
+                valid[k] = -1;
+                rh.ray.org_x[k] = r[k].ox;
+                rh.ray.org_y[k] = r[k].oy;
+                rh.ray.org_z[k] = r[k].oz;
+                rh.ray.tnear[k] = r[k].tnear;
+                rh.ray.dir_x[k] = r[k].dx;
+                rh.ray.dir_y[k] = r[k].dy;
+                rh.ray.dir_z[k] = r[k].dz;
+                rh.ray.tfar[k] = r[k].tfar;
                 rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
             }
+            for (std::size_t k = n; k < 16; ++k) valid[k] = 0;  // last packet only
             rtcIntersect16(valid, top, &ctx, &rh);
             for (std::size_t k = 0; k < n; ++k) {
-                const Ray& r = rays[base + k];
                 hits[base + k] = make_hit(
                     rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k],
-                    {rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]}, {r.dx, r.dy, r.dz});
+                    {rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]}, {r[k].dx, r[k].dy, r[k].dz});
             }
         }
     }
