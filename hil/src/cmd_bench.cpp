@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <barrier>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -27,39 +28,56 @@ double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Bare Embree on exactly the pipeline's rays: rays are generated per chunk outside the timed
-// region; only renderer.intersect is timed. Returns rays/s over `threads` threads.
+// Bare Embree on exactly the pipeline's rays, all threads tracing at once: in each round every
+// thread first generates its next chunks (untimed), then all trace them together between two
+// barriers, timed by the wall clock. Timing each thread's intersect calls alone would let one
+// thread trace while the other generates rays, sharing the cores and caches less than the
+// pipeline does, and overstate the ceiling. Returns rays/s over `threads` threads.
 double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
                           std::uint64_t& rays_out) {
     const std::size_t chunk = render::chunk_pulses(job.sensor, job.options.chunk_pulses);
     const std::uint64_t chunks = (pulses + chunk - 1) / chunk;
-    std::atomic<std::uint64_t> next{0}, rays{0};
-    std::vector<double> busy(static_cast<std::size_t>(threads), 0.0);
+    constexpr std::uint64_t kChunksPerRound = 8;  // per thread: ~64 k pulses, a few 10 MB of rays
+    const std::uint64_t per_round = kChunksPerRound * static_cast<std::uint64_t>(threads);
+    const std::uint64_t rounds = (chunks + per_round - 1) / per_round;
+    std::atomic<std::uint64_t> rays{0};
+    std::barrier sync(threads);
+    Clock::time_point round_start;
+    double traced_s = 0;  // written by thread 0 only, between barriers
     std::vector<std::thread> pool;
     for (int w = 0; w < threads; ++w) {
         pool.emplace_back([&, w] {
+            std::vector<std::vector<render::Ray>> batch;
             std::vector<render::Hit> hits;
-            for (std::uint64_t c; (c = next++) < chunks;) {
-                const std::uint64_t first = c * chunk;
-                const auto n =
-                    static_cast<std::size_t>(std::min<std::uint64_t>(chunk, pulses - first));
-                auto r = render::pipeline_rays(job.sensor, job.trajectory, job.mount,
-                                               job.options.start, first, n);
-                hits.resize(r.size());
-                const auto t0 = Clock::now();
-                job.renderer->intersect(r, hits);
-                busy[static_cast<std::size_t>(w)] += seconds_since(t0);
-                rays += r.size();
+            for (std::uint64_t round = 0; round < rounds; ++round) {
+                batch.clear();
+                for (std::uint64_t k = 0; k < kChunksPerRound; ++k) {
+                    const std::uint64_t c = round * per_round +
+                                            k * static_cast<std::uint64_t>(threads) +
+                                            static_cast<std::uint64_t>(w);
+                    if (c >= chunks) break;
+                    const std::uint64_t first = c * chunk;
+                    const auto n =
+                        static_cast<std::size_t>(std::min<std::uint64_t>(chunk, pulses - first));
+                    batch.push_back(render::pipeline_rays(job.sensor, job.trajectory, job.mount,
+                                                          job.options.start, first, n));
+                }
+                sync.arrive_and_wait();
+                if (w == 0) round_start = Clock::now();
+                sync.arrive_and_wait();
+                for (const auto& r : batch) {
+                    hits.resize(r.size());
+                    job.renderer->intersect(r, hits);
+                    rays += r.size();
+                }
+                sync.arrive_and_wait();
+                if (w == 0) traced_s += seconds_since(round_start);
             }
         });
     }
     for (auto& t : pool) t.join();
-    double total_busy = 0;
-    for (double b : busy) total_busy += b;
     rays_out = rays.load();
-    // Wall time the intersect calls alone would take on `threads` threads.
-    const double wall = total_busy / threads;
-    return wall > 0 ? double(rays_out) / wall : 0.0;
+    return traced_s > 0 ? double(rays_out) / traced_s : 0.0;
 }
 
 render::RenderStats run_pipeline_to_null(Job& job, const std::string& null_path) {
