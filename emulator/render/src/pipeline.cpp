@@ -9,6 +9,7 @@
 #include <deque>
 #include <mutex>
 #include <numbers>
+#include <span>
 #include <thread>
 
 #include "mirage/core/rng.hpp"
@@ -248,8 +249,7 @@ class PulseShader {
         const std::size_t n = g.specs.size();
         const std::size_t s_count = subrays.size();
         const auto& rx = sensor_.receiver;
-        std::vector<Contribution> contrib;
-        contrib.reserve(s_count);
+        std::vector<Contribution> buffer(s_count);  // a pulse's contributions: buffer[0, nc)
         const double alpha = env_.atmosphere.extinction_per_m, alpha2 = 2.0 * alpha;
         // Power of each sub-ray per unit brdf·cos θ·τ²/R².
         weighted_k_.resize(s_count);
@@ -258,7 +258,7 @@ class PulseShader {
             const std::uint64_t pulse = first + i;
             const Hit* h = &hits[g.first_ray[i]];
             const Ray* ray = &g.rays[g.first_ray[i]];
-            contrib.clear();
+            std::size_t nc = 0;
             bool any_close = false;
             Transmission tau{};
             for (std::size_t s = 0; s < s_count; ++s) {
@@ -280,24 +280,25 @@ class PulseShader {
                 // A surface seen edge-on (cos θ = 0, or NaN) returns nothing: power 0.
                 const double p =
                     cos_inc > 0.0 ? weighted_k_[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
-                contrib.push_back({range, p, static_cast<std::uint32_t>(s)});
+                buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
             }
             out.stats.pulses++;
-            if (contrib.empty()) {
+            if (nc == 0) {
                 if (any_close)
                     out.stats.too_close++;
                 else
                     out.stats.misses++;
                 continue;
             }
-            emit_returns(pulse, g, i, h, contrib, tau, alpha, out);
+            emit_returns(pulse, g, i, h, std::span<Contribution>(buffer.data(), nc), tau, alpha,
+                         out);
         }
         out.stats.rays += hits.size();
     }
 
   private:
     void emit_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
-                      std::vector<Contribution>& contrib, const Transmission& tau, double alpha,
+                      std::span<Contribution> contrib, const Transmission& tau, double alpha,
                       ChunkResult& out) const {
         const auto& rx = sensor_.receiver;
         // Group sub-ray hits into returns: sorted by range, split where the gap exceeds the
