@@ -36,20 +36,53 @@ struct Reader::Impl {
         }
         if (handle) pcap_close(handle);
     }
+    // Byte offset of the next record. ftell costs an lseek system call per record (the profile
+    // of top-speed replay showed it), so classic pcap files with 16-byte record headers are
+    // counted instead: header + caplen, unless libpcap may have cut the record to the
+    // snapshot length (then the file read more than caplen and ftell is asked once).
+    bool classic16 = false;
+    std::int64_t next_at = -1;
     std::int64_t tell() const {
+        if (next_at >= 0) return next_at;
         FILE* f = pcap_file(handle);
         return f ? static_cast<std::int64_t>(std::ftell(f)) : -1;
     }
+    void advance(std::int64_t at, const pcap_pkthdr& hdr) {
+        const bool whole = at >= 0 && static_cast<int>(hdr.caplen) < pcap_snapshot(handle);
+        next_at = classic16 && whole ? at + 16 + static_cast<std::int64_t>(hdr.caplen) : -1;
+    }
 };
+
+namespace {
+// Classic pcap magics with 16-byte record headers (µs and ns, either byte order), read from
+// the file's first 4 bytes; the modified-pcap (Kuznetzov) format and pcapng are not.
+bool classic_16_byte_records(const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return false;
+    unsigned char b[4] = {};
+    const bool got = std::fread(b, 1, 4, f) == 4;
+    std::fclose(f);
+    if (!got) return false;
+    const std::uint32_t le = std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
+                             std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24;
+    return le == 0xA1B2C3D4u || le == 0xD4C3B2A1u || le == 0xA1B23C4Du || le == 0x4D3CB2A1u;
+}
+}  // namespace
 
 const char* to_string(FrameStatus s) {
     switch (s) {
-        case FrameStatus::Ok: return "ok";
-        case FrameStatus::Truncated: return "truncated";
-        case FrameStatus::NotIpv4: return "not-ip";
-        case FrameStatus::NotUdp: return "not-udp";
-        case FrameStatus::BadHeader: return "bad-header";
-        case FrameStatus::Fragment: return "fragment";
+        case FrameStatus::Ok:
+            return "ok";
+        case FrameStatus::Truncated:
+            return "truncated";
+        case FrameStatus::NotIpv4:
+            return "not-ip";
+        case FrameStatus::NotUdp:
+            return "not-udp";
+        case FrameStatus::BadHeader:
+            return "bad-header";
+        case FrameStatus::Fragment:
+            return "fragment";
     }
     return "?";
 }
@@ -67,6 +100,7 @@ Reader::Reader(const std::string& path, const ReaderOptions& options) : impl_(ne
         throw IoError(fmt::format("pcap reader '{}': {}", path, errbuf));
     }
     impl_->dlt = pcap_datalink(impl_->handle);
+    impl_->classic16 = classic_16_byte_records(path);
     impl_->link_ok = detail::supported_dlt(impl_->dlt);
     if (!impl_->link_ok && options.unknown_link_throws) {
         const char* name = pcap_datalink_val_to_name(impl_->dlt);
@@ -101,9 +135,8 @@ void Reader::set_filter(const std::string& expression) {
         throw ConfigError(fmt::format("pcap reader '{}': filter '{}': {}", m.path, expression,
                                       pcap_geterr(m.handle)));
     pcap_t* eth = pcap_open_dead(DLT_EN10MB, 65535);
-    const int rc = eth ? pcap_compile(eth, &m.eth_filter, expression.c_str(), 1,
-                                      PCAP_NETMASK_UNKNOWN)
-                       : -1;
+    const int rc =
+        eth ? pcap_compile(eth, &m.eth_filter, expression.c_str(), 1, PCAP_NETMASK_UNKNOWN) : -1;
     const std::string why = eth ? pcap_geterr(eth) : "out of memory";
     if (eth) pcap_close(eth);
     if (rc != 0) {
@@ -126,6 +159,7 @@ bool Reader::next(UdpDatagram& out) {
         const std::int64_t at = m.tell();
         const int rc = pcap_next_ex(m.handle, &hdr, &data);
         if (rc == 0) continue;  // live-capture timeout; not produced by files
+        if (rc == 1) m.advance(at, *hdr);
         if (rc != 1) {
             // PCAP_ERROR_BREAK is the clean end; PCAP_ERROR a damaged or cut last record.
             if (rc == PCAP_ERROR) {

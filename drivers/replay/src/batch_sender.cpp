@@ -5,18 +5,27 @@
 #include <fmt/format.h>
 #include <netdb.h>
 #include <netinet/in.h>
+#include <netinet/udp.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
 
 #include "mirage/core/error.hpp"
 
-namespace mirage::replay {
+#ifndef UDP_SEGMENT
+#define UDP_SEGMENT 103  // linux/udp.h; glibc's netinet/udp.h has it from 2.29 on
+#endif
 
-BatchSender::BatchSender(const std::string& host, int send_buffer_bytes) {
+namespace mirage::replay {
+namespace {
+constexpr std::size_t kMaxGsoBytes = 65507;  // largest UDP payload of one IPv4 datagram
+}  // namespace
+
+BatchSender::BatchSender(const std::string& host, int send_buffer_bytes, bool gso) : gso_(gso) {
     addrinfo hints{};
     hints.ai_family = AF_INET;
     hints.ai_socktype = SOCK_DGRAM;
@@ -43,45 +52,98 @@ BatchSender::~BatchSender() {
     if (fd_ >= 0) ::close(fd_);
 }
 
-std::size_t BatchSender::send(std::span<const Outgoing> batch) {
+// Datagrams from i on that can share one GSO message with batch[i].
+std::size_t BatchSender::run_length(std::span<const Outgoing> batch, std::size_t i) const {
+    const std::size_t size = batch[i].payload.size();
+    if (!gso_ || size == 0 || size >= gso_refused_size_) return 1;
+    std::size_t n = 1, total = size;
+    while (i + n < batch.size() && n < kMaxSegments && batch[i + n].port == batch[i].port &&
+           batch[i + n].payload.size() == size && total + size <= kMaxGsoBytes) {
+        total += size;
+        ++n;
+    }
+    return n;
+}
+
+std::size_t BatchSender::send_some(std::span<const Outgoing> batch, std::size_t& consumed) {
     std::array<mmsghdr, kMaxBatch> msgs{};
-    std::array<iovec, kMaxBatch> iov{};
+    std::array<iovec, kMaxBatch * kMaxSegments> iov{};
     std::array<sockaddr_in, kMaxBatch> addr{};
-    std::size_t accepted = 0;
-    std::size_t i = 0;
-    while (i < batch.size()) {
-        const std::size_t n = std::min(kMaxBatch, batch.size() - i);
+    struct Control {
+        alignas(cmsghdr) unsigned char bytes[CMSG_SPACE(sizeof(std::uint16_t))];
+    };
+    std::array<Control, kMaxBatch> control{};
+    std::array<std::size_t, kMaxBatch> first{}, count{};
+    std::size_t m = 0, i = 0, v = 0;
+    while (m < kMaxBatch && i < batch.size()) {
+        const std::size_t n = run_length(batch, i);
         for (std::size_t k = 0; k < n; ++k) {
             const auto& o = batch[i + k];
-            addr[k].sin_family = AF_INET;
-            addr[k].sin_port = htons(o.port);
-            std::memcpy(&addr[k].sin_addr, ip_.data(), 4);
-            iov[k].iov_base = const_cast<std::uint8_t*>(o.payload.data());
-            iov[k].iov_len = o.payload.size();
-            msgs[k] = mmsghdr{};
-            msgs[k].msg_hdr.msg_name = &addr[k];
-            msgs[k].msg_hdr.msg_namelen = sizeof(sockaddr_in);
-            msgs[k].msg_hdr.msg_iov = &iov[k];
-            msgs[k].msg_hdr.msg_iovlen = 1;
+            iov[v + k].iov_base = const_cast<std::uint8_t*>(o.payload.data());
+            iov[v + k].iov_len = o.payload.size();
         }
-        std::size_t done = 0;
-        while (done < n) {
-            ++syscalls_;
-            const int rc = ::sendmmsg(fd_, msgs.data() + done, static_cast<unsigned>(n - done), 0);
-            if (rc < 0) {
-                if (errno == EINTR) continue;
-                // The first message of the rest failed: count it and go on with the others.
-                last_error_ = errno;
-                ++failed_;
-                ++done;
-                continue;
-            }
-            done += static_cast<std::size_t>(rc);
-            accepted += static_cast<std::size_t>(rc);
-            sent_ += static_cast<std::uint64_t>(rc);
+        addr[m].sin_family = AF_INET;
+        addr[m].sin_port = htons(batch[i].port);
+        std::memcpy(&addr[m].sin_addr, ip_.data(), 4);
+        msghdr& h = msgs[m].msg_hdr;
+        h.msg_name = &addr[m];
+        h.msg_namelen = sizeof(sockaddr_in);
+        h.msg_iov = &iov[v];
+        h.msg_iovlen = n;
+        if (n > 1) {
+            h.msg_control = control[m].bytes;
+            h.msg_controllen = sizeof control[m].bytes;
+            cmsghdr* c = CMSG_FIRSTHDR(&h);
+            c->cmsg_level = SOL_UDP;
+            c->cmsg_type = UDP_SEGMENT;
+            c->cmsg_len = CMSG_LEN(sizeof(std::uint16_t));
+            const auto seg = static_cast<std::uint16_t>(batch[i].payload.size());
+            std::memcpy(CMSG_DATA(c), &seg, sizeof seg);
         }
+        first[m] = i;
+        count[m] = n;
         i += n;
+        v += n;
+        ++m;
     }
+    std::size_t accepted = 0, done = 0;
+    while (done < m) {
+        ++syscalls_;
+        const int rc = ::sendmmsg(fd_, msgs.data() + done, static_cast<unsigned>(m - done), 0);
+        if (rc < 0) {
+            if (errno == EINTR) continue;
+            if (count[done] > 1) {
+                // GSO refused for this run: its datagrams go again singly (next call).
+                gso_refused_size_ = std::min(gso_refused_size_, batch[first[done]].payload.size());
+                if (errno == EIO || errno == ENOPROTOOPT || errno == EOPNOTSUPP) gso_ = false;
+                consumed = first[done];
+                return accepted;
+            }
+            // The first message of the rest failed: count it and go on with the others.
+            last_error_ = errno;
+            ++failed_;
+            ++done;
+            continue;
+        }
+        for (int k = 0; k < rc; ++k) {
+            const std::size_t c = count[done + static_cast<std::size_t>(k)];
+            accepted += c;
+            if (c > 1) ++gso_messages_;
+        }
+        done += static_cast<std::size_t>(rc);
+    }
+    consumed = i;
+    return accepted;
+}
+
+std::size_t BatchSender::send(std::span<const Outgoing> batch) {
+    std::size_t accepted = 0, i = 0;
+    while (i < batch.size()) {
+        std::size_t consumed = 0;
+        accepted += send_some(batch.subspan(i), consumed);
+        i += consumed;
+    }
+    sent_ += accepted;
     return accepted;
 }
 

@@ -30,8 +30,8 @@ bool Impairer::chance(double p) {
 void Impairer::emit(Packet&& p, std::vector<Packet>& out) {
     const bool dup = chance(config_.duplicate);
     if (config_.jitter_ns > 0)
-        p.time_ns += static_cast<std::int64_t>(rng_() % static_cast<std::uint64_t>(
-                                                          config_.jitter_ns + 1));
+        p.time_ns +=
+            static_cast<std::int64_t>(rng_() % static_cast<std::uint64_t>(config_.jitter_ns + 1));
     if (dup) {
         out.push_back(p);
         ++counters_.duplicated;

@@ -25,8 +25,7 @@ std::map<std::uint16_t, std::uint16_t> parse_port_map(const std::vector<std::str
     for (const auto& item : items) {
         const auto eq = item.find('=');
         std::uint16_t from = 0, to = 0;
-        if (eq == std::string::npos ||
-            !parse_port(std::string_view(item).substr(0, eq), from) ||
+        if (eq == std::string::npos || !parse_port(std::string_view(item).substr(0, eq), from) ||
             !parse_port(std::string_view(item).substr(eq + 1), to) || to == 0)
             throw ConfigError(fmt::format(
                 "replay --port-map '{}': expected CAPTURE_PORT=SEND_PORT, e.g. 2368=12368", item));
@@ -46,8 +45,7 @@ std::int64_t parse_seconds_ns(const std::string& text, const std::string& what) 
     std::int64_t s = 0, f = 0;
     if (!whole.empty()) {
         const auto [p, ec] = std::from_chars(whole.data(), whole.data() + whole.size(), s);
-        if (ec != std::errc{} || p != whole.data() + whole.size() || s < 0 ||
-            s > 9'000'000'000)
+        if (ec != std::errc{} || p != whole.data() + whole.size() || s < 0 || s > 9'000'000'000)
             throw fail();
     }
     if (!frac.empty()) {
@@ -69,8 +67,8 @@ std::vector<std::uint16_t> parse_listen_ports(const std::string& text) {
         if (colon != std::string::npos) item = item.substr(colon + 1);
         std::uint16_t port = 0;
         if (!parse_port(item, port))
-            throw ConfigError(fmt::format(
-                "record --listen '{}': expected a list like :2368,:8308", text));
+            throw ConfigError(
+                fmt::format("record --listen '{}': expected a list like :2368,:8308", text));
         ports.push_back(port);
         begin = end + 1;
     }

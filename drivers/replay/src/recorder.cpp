@@ -35,14 +35,14 @@ Recorder::Recorder(const RecordConfig& config) : config_(config) {
     if (config.ports.empty()) throw ConfigError("record --listen: no ports");
     in_addr bind_ip{};
     if (::inet_pton(AF_INET, config.bind_host.c_str(), &bind_ip) != 1)
-        throw ConfigError(fmt::format("record --bind-host '{}': expected an IPv4 address",
-                                      config.bind_host));
+        throw ConfigError(
+            fmt::format("record --bind-host '{}': expected an IPv4 address", config.bind_host));
     auto fail = [&](std::uint16_t port, const char* what) {
         const int err = errno;
         for (int fd : fds_) ::close(fd);
         fds_.clear();
-        return IoError(fmt::format("record {}:{}: {}: {}", config.bind_host, port, what,
-                                   std::strerror(err)));
+        return IoError(
+            fmt::format("record {}:{}: {}: {}", config.bind_host, port, what, std::strerror(err)));
     };
     for (const auto port : config.ports) {
         const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
@@ -166,8 +166,7 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
                     if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
                         timespec ts{};
                         std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-                        time_ns = static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 +
-                                  ts.tv_nsec;
+                        time_ns = static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
                     } else if (c->cmsg_level == IPPROTO_IP && c->cmsg_type == IP_PKTINFO) {
                         in_pktinfo pi{};
                         std::memcpy(&pi, CMSG_DATA(c), sizeof pi);

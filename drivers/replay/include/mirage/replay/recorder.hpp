@@ -11,8 +11,8 @@ namespace mirage::replay {
 struct RecordConfig {
     std::vector<std::uint16_t> ports;  // listen on each (0: ephemeral, see Recorder::ports())
     std::string bind_host = "0.0.0.0";
-    std::string out;                   // classic pcap, ns timestamps
-    std::int64_t duration_ns = -1;     // -1: until stopped
+    std::string out;                // classic pcap, ns timestamps
+    std::int64_t duration_ns = -1;  // -1: until stopped
     std::int64_t flush_interval_ns = 1'000'000'000;
     int receive_buffer_bytes = 4 << 20;
 };
@@ -27,10 +27,10 @@ struct RecordStatus {
 
 struct RecordResult {
     RecordStatus totals;
-    std::uint64_t written = 0;   // datagrams in the file
-    std::uint64_t truncated = 0; // longer than the receive buffer (cut, MSG_TRUNC)
+    std::uint64_t written = 0;    // datagrams in the file
+    std::uint64_t truncated = 0;  // longer than the receive buffer (cut, MSG_TRUNC)
     std::uint64_t file_bytes = 0;
-    std::string error;           // write error (the file was cut to its last whole record)
+    std::string error;  // write error (the file was cut to its last whole record)
 };
 
 // Receives UDP datagrams on several ports (recvmmsg, SO_TIMESTAMPNS kernel receive time,

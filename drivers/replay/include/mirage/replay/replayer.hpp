@@ -19,9 +19,9 @@ struct ReplayConfig {
     std::map<std::uint16_t, std::uint16_t> port_map;  // capture dst port -> sent port
     double speed = 1.0;                               // 0: as fast as possible (batched)
     std::uint32_t loops = 1;                          // passes over the file (0: endless)
-    std::int64_t from_ns = 0;    // skip datagrams earlier than first + from_ns
-    std::int64_t until_ns = -1;  // stop at first + until_ns (-1: end of file)
-    std::string filter;          // libpcap filter expression (pcap-filter(7)); empty: all
+    std::int64_t from_ns = 0;                         // skip datagrams earlier than first + from_ns
+    std::int64_t until_ns = -1;                       // stop at first + until_ns (-1: end of file)
+    std::string filter;  // libpcap filter expression (pcap-filter(7)); empty: all
     ImpairmentConfig impair;
     std::int64_t lead_ns = 2'000'000;  // the first datagram is due this long after the start
     std::int64_t spin_ns = 50'000;     // sleep to this long before a deadline, then spin
@@ -29,24 +29,25 @@ struct ReplayConfig {
 };
 
 struct ReplaySummary {
-    std::uint64_t datagrams_read = 0;   // UDP datagrams taken from the file (all passes)
-    std::uint64_t out_of_range = 0;     // outside --from / --until
-    std::uint64_t packets = 0;          // sent (accepted by the kernel)
-    std::uint64_t bytes = 0;            // payload bytes sent
-    std::uint64_t failed = 0;           // refused by the kernel
+    std::uint64_t datagrams_read = 0;  // UDP datagrams taken from the file (all passes)
+    std::uint64_t out_of_range = 0;    // outside --from / --until
+    std::uint64_t packets = 0;         // sent (accepted by the kernel)
+    std::uint64_t bytes = 0;           // payload bytes sent
+    std::uint64_t failed = 0;          // refused by the kernel
     std::uint64_t syscalls = 0;
-    std::uint64_t filtered = 0;         // frames the filter rejected
+    std::uint64_t gso_messages = 0;  // runs of datagrams sent as one UDP GSO message
+    std::uint64_t filtered = 0;      // frames the filter rejected
     std::array<std::uint64_t, pcap::kFrameStatusCount> frames{};  // by FrameStatus, all passes
     ImpairmentCounters impair;
     udp::LatenessHistogram lateness{udp::LatenessHistogram(core::Nanos{20'000})};
     std::int64_t schedule_ns = 0;  // last deadline − first (host time)
     std::int64_t elapsed_ns = 0;   // first send − last send, host time
     std::uint32_t passes = 0;
-    bool stopped = false;             // the stop flag ended it
+    bool stopped = false;  // the stop flag ended it
     bool top_speed = false;
     int link_type = 0;
     bool link_supported = true;
-    std::string error;                // read error of the file ("record at byte N: ...")
+    std::string error;  // read error of the file ("record at byte N: ...")
     std::int64_t error_offset = -1;
 };
 
