@@ -21,6 +21,7 @@ void register_replay(CLI::App& app) {
         std::string from, until;
         bool top = false;
         double jitter_us = 0;
+        double spin_us = 1000;
         bool quiet = false;
     };
     auto o = std::make_shared<Opts>();
@@ -44,13 +45,18 @@ void register_replay(CLI::App& app) {
                     "'src host 192.168.1.201 and not port 8308'; fragments are matched as the "
                     "whole datagram");
     cmd->add_option("--seed", o->cfg.impair.seed, "Seed of the impairments")->capture_default_str();
-    cmd->add_option("--drop", o->cfg.impair.drop, "Probability that a drop burst starts at a packet");
+    cmd->add_option("--drop", o->cfg.impair.drop,
+                    "Probability that a drop burst starts at a packet");
     cmd->add_option("--drop-burst", o->cfg.impair.drop_burst, "Packets lost per drop event")
         ->capture_default_str();
     cmd->add_option("--duplicate", o->cfg.impair.duplicate, "Probability a packet is sent twice");
     cmd->add_option("--reorder", o->cfg.impair.reorder,
                     "Probability a packet swaps places with the next one");
     cmd->add_option("--jitter-us", o->jitter_us, "Extra delay per packet, uniform in 0..S us");
+    cmd->add_option("--spin-us", o->spin_us,
+                    "Sleep until this long before each send time, then spin (timer wake-ups "
+                    "are late by tens of us, more in VMs; more spin = more CPU, less jitter)")
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
     cmd->callback([o] {
         auto cfg = o->cfg;
@@ -60,6 +66,9 @@ void register_replay(CLI::App& app) {
         if (!o->until.empty()) cfg.until_ns = replay::parse_seconds_ns(o->until, "replay --until");
         if (o->jitter_us < 0) throw ConfigError("replay --jitter-us: expected >= 0");
         cfg.impair.jitter_ns = static_cast<std::int64_t>(o->jitter_us * 1000.0);
+        if (!(o->spin_us >= 0) || o->spin_us > 1e6)
+            throw ConfigError("replay --spin-us: expected 0 to 1000000");
+        cfg.spin_ns = static_cast<std::int64_t>(o->spin_us * 1000.0);
         const auto& stop = install_stop_signal();
         const bool quiet = o->quiet;
         const auto s = replay::replay(cfg, &stop, [quiet](const replay::ReplaySummary& p) {

@@ -66,14 +66,15 @@ std::size_t BatchSender::run_length(std::span<const Outgoing> batch, std::size_t
 }
 
 std::size_t BatchSender::send_some(std::span<const Outgoing> batch, std::size_t& consumed) {
-    std::array<mmsghdr, kMaxBatch> msgs{};
-    std::array<iovec, kMaxBatch * kMaxSegments> iov{};
-    std::array<sockaddr_in, kMaxBatch> addr{};
-    struct Control {
-        alignas(cmsghdr) unsigned char bytes[CMSG_SPACE(sizeof(std::uint16_t))];
-    };
-    std::array<Control, kMaxBatch> control{};
-    std::array<std::size_t, kMaxBatch> first{}, count{};
+    // Member buffers, allocated and touched in the constructor: on the stack these 150 kB
+    // page-faulted in the first call and made the first datagram hundreds of µs late.
+    auto& msgs = buf_.msgs;
+    auto& iov = buf_.iov;
+    auto& addr = buf_.addr;
+    auto& control = buf_.control;
+    auto& first = buf_.first;
+    auto& count = buf_.count;
+    std::fill(msgs.begin(), msgs.end(), mmsghdr{});
     std::size_t m = 0, i = 0, v = 0;
     while (m < kMaxBatch && i < batch.size()) {
         const std::size_t n = run_length(batch, i);

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <netinet/in.h>
+#include <sys/socket.h>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -52,6 +55,18 @@ class BatchSender {
     std::size_t send_some(std::span<const Outgoing> batch, std::size_t& consumed);
     std::size_t run_length(std::span<const Outgoing> batch, std::size_t i) const;
 
+    struct Buffers {
+        std::vector<mmsghdr> msgs = std::vector<mmsghdr>(kMaxBatch);
+        std::vector<iovec> iov = std::vector<iovec>(kMaxBatch * kMaxSegments);
+        std::vector<sockaddr_in> addr = std::vector<sockaddr_in>(kMaxBatch);
+        struct alignas(cmsghdr) Control {  // one UDP_SEGMENT control message
+            unsigned char bytes[CMSG_SPACE(sizeof(std::uint16_t))];
+        };
+        std::vector<Control> control = std::vector<Control>(kMaxBatch);
+        std::vector<std::size_t> first = std::vector<std::size_t>(kMaxBatch);
+        std::vector<std::size_t> count = std::vector<std::size_t>(kMaxBatch);
+    };
+    Buffers buf_;
     int fd_ = -1;
     std::array<std::uint8_t, 4> ip_{};
     bool gso_ = true;

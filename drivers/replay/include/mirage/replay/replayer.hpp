@@ -24,7 +24,7 @@ struct ReplayConfig {
     std::string filter;  // libpcap filter expression (pcap-filter(7)); empty: all
     ImpairmentConfig impair;
     std::int64_t lead_ns = 2'000'000;  // the first datagram is due this long after the start
-    std::int64_t spin_ns = 50'000;     // sleep to this long before a deadline, then spin
+    std::int64_t spin_ns = 1'000'000;  // sleep to this long before a deadline, then spin
     int send_buffer_bytes = 4 << 20;
 };
 
