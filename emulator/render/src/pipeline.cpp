@@ -252,8 +252,9 @@ class PulseShader {
         std::vector<Contribution> buffer(s_count);  // a pulse's contributions: buffer[0, nc)
         const double alpha = env_.atmosphere.extinction_per_m, alpha2 = 2.0 * alpha;
         // Power of each sub-ray per unit brdf·cos θ·τ²/R².
-        weighted_k_.resize(s_count);
-        for (std::size_t s = 0; s < s_count; ++s) weighted_k_[s] = subrays[s].weight * power_k_;
+        // Local: one shader serves all worker threads at once.
+        std::vector<double> weighted_k(s_count);
+        for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint64_t pulse = first + i;
             const Hit* h = &hits[g.first_ray[i]];
@@ -279,7 +280,7 @@ class PulseShader {
                 const double tau2 = tau.two_way(range, alpha2);
                 // A surface seen edge-on (cos θ = 0, or NaN) returns nothing: power 0.
                 const double p =
-                    cos_inc > 0.0 ? weighted_k_[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
+                    cos_inc > 0.0 ? weighted_k[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
                 buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
             }
             out.stats.pulses++;
@@ -461,8 +462,7 @@ class PulseShader {
         double constant;  // ρ_d/π (+ retro gain): the whole BRDF without a specular lobe
         bool specular;
     };
-    std::vector<BrdfTerms> brdf_terms_;       // by material index
-    mutable std::vector<double> weighted_k_;  // per sub-ray, per shade() call (one per thread)
+    std::vector<BrdfTerms> brdf_terms_;  // by material index
 };
 
 double thread_cpu_s() {
