@@ -102,8 +102,8 @@ void register_emulate(CLI::App& app) {
         }
         if (o->to.empty() && o->pcap.empty())
             throw ConfigError("emulate: nothing to do: give --to HOST and/or --pcap FILE");
-        const bool is_static = in.nav_log.empty() &&
-                               (in.trajectory.empty() || in.trajectory.rfind("static:", 0) == 0);
+        const bool is_static =
+            in.nav_log.empty() && (in.trajectory.empty() || in.trajectory.rfind("static:", 0) == 0);
         const bool forever = is_static && in.duration.empty();
         if (forever && o->afap)
             throw ConfigError(
@@ -122,6 +122,7 @@ void register_emulate(CLI::App& app) {
         po.realtime = !o->afap;
         po.status_line = !o->no_status;
         po.fifo_priority = o->rt_priority;
+        po.start_lead = kEmulateStartLead;
         po.pcap_path = o->pcap;
         const udp::StreamPorts ports =
             sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);

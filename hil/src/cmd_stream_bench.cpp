@@ -235,14 +235,15 @@ struct StreamRun {
 };
 
 // The writer-thread side: record the packet's schedule, then hand it to the paced output. The
-// first packet anchors both this schedule and the output's Pacer (first packet = now).
+// first packet anchors both this schedule and the output's Pacer (first packet = now + emulate's
+// start lead).
 void hand_over(StreamRun& r, const wire::PacketView& p) {
     const std::uint64_t key = packet_key(p.bytes);
     const std::int64_t now = udp::Pacer::monotonic_ns();
     if (!r.anchored) {
         r.anchored = true;
         r.t0 = p.time;
-        r.anchor_ns = now;
+        r.anchor_ns = now + kEmulateStartLead.count();  // as emulate: a lead before sending
         r.out->anchor(r.t0, r.anchor_ns);  // the Pacer's schedule is exactly the one measured
     }
     const std::int64_t deadline = r.anchor_ns + (p.time - r.t0).count();

@@ -20,8 +20,8 @@ udp::StreamPorts sensor_ports(bool ouster, std::uint16_t data, std::uint16_t pos
     return ports;
 }
 
-void route_streams(PacketOutputOptions& po, const udp::StreamPorts& ports,
-                   const std::string& host, std::uint16_t source_port) {
+void route_streams(PacketOutputOptions& po, const udp::StreamPorts& ports, const std::string& host,
+                   std::uint16_t source_port) {
     po.pcap_source_ports = {ports.data, ports.position, ports.imu};
     po.pcap_dest_ports = ports;
     if (host.empty()) return;
@@ -89,9 +89,10 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
             }
         }
     }
+    if (opt_.realtime && !pacer_.anchored())
+        pacer_.anchor(packet.time, udp::Pacer::monotonic_ns() + opt_.start_lead.count());
     if (shared_) {
         // The sending thread paces; this thread only waits while it is a horizon ahead.
-        if (!pacer_.anchored()) pacer_.anchor(packet.time, udp::Pacer::monotonic_ns());
         shared_->sender->submit(shared_->id, packet.stream, pacer_.deadline_ns(packet.time),
                                 packet.bytes);
     } else if (opt_.realtime) {

@@ -35,7 +35,15 @@ struct PacketOutputOptions {
     // Ignored without `udp` or `realtime` (a capture alone is paced by the caller as before).
     bool use_shared_sender = false;
     std::shared_ptr<udp::SharedSender> shared_sender;
+    // Realtime: the first packet is due this long after it is produced, so the renderers build
+    // a lead before sending starts (a start-up with three streams briefly renders slower than
+    // real time). Unless anchor() was called. 0 for INS-driven output, where it would be latency.
+    core::Nanos start_lead{0};
 };
+
+// `mirage emulate`'s start lead (and stream-bench's, which measures emulate's path): with it the
+// three-stream benchmark's late hand-overs fell from 133 to 27 (OS1-128; HDL-64E and VLP-16 0).
+inline constexpr core::Nanos kEmulateStartLead{100'000'000};
 
 struct PacketOutputTotals {
     std::uint64_t packets = 0, bytes = 0, sent = 0, send_failed = 0, pcap_packets = 0;
@@ -52,8 +60,8 @@ udp::StreamPorts sensor_ports(bool ouster, std::uint16_t data, std::uint16_t pos
                               std::uint16_t imu);
 // Sends those streams to `host` (none when empty; data from `source_port` when non-zero) and
 // labels the pcap's packets with the same ports.
-void route_streams(PacketOutputOptions& po, const udp::StreamPorts& ports,
-                   const std::string& host, std::uint16_t source_port = 0);
+void route_streams(PacketOutputOptions& po, const udp::StreamPorts& ports, const std::string& host,
+                   std::uint16_t source_port = 0);
 
 // Where packets go: paced by absolute deadlines on the sensor clock, sent over UDP, written to a
 // pcap with their sensor-clock send times, and summarised in a status line once a second.
