@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "nav_log.hpp"
-#include "nav_codec.hpp"
 
 #include <fmt/format.h>
 
@@ -21,6 +20,7 @@
 #include "mirage/ncom/decoder.hpp"
 #include "mirage/nmea/nmea_decoder.hpp"
 #include "mirage/novatel/decoder.hpp"
+#include "nav_codec.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -51,6 +51,17 @@ std::optional<nmea::Date> nmea_log_date(std::span<const std::uint8_t> bytes) {
     return nmea::Date::from_unix_days(days);
 }
 
+// Counts a decoded sample and keeps it when it carries a time (untimed ones are only counted).
+bool keep_timed(NavLog& log, const nav::NavSample& s) {
+    ++log.stats.samples;
+    if (!s.has(nav::NavSample::kTime)) {
+        ++log.stats.untimed_samples;
+        return false;
+    }
+    log.samples.push_back(s);
+    return true;
+}
+
 // NMEA: one message per line; a line's time is that of the timed sample it yields.
 void split_nmea(NavLog& log, const NavLogOptions& opt) {
     nmea::NmeaDecoder d;
@@ -71,12 +82,7 @@ void split_nmea(NavLog& log, const NavLogOptions& opt) {
         m.offset = start;
         m.size = end - start;
         d.feed(all.subspan(start, end - start), [&](const nav::NavSample& s) {
-            ++log.stats.samples;
-            if (!s.has(nav::NavSample::kTime)) {
-                ++log.stats.untimed_samples;
-                return;
-            }
-            log.samples.push_back(s);
+            if (!keep_timed(log, s)) return;
             if (!m.timed) {
                 m.t = s.t;
                 m.timed = true;
@@ -97,12 +103,7 @@ void split_binary(NavLog& log, Decoder& d) {
     bool timed = false;
     core::GpsTime t{};
     const auto on = [&](const nav::NavSample& s) {
-        ++log.stats.samples;
-        if (!s.has(nav::NavSample::kTime)) {
-            ++log.stats.untimed_samples;
-            return;
-        }
-        log.samples.push_back(s);
+        if (!keep_timed(log, s)) return;
         if (!timed) {
             timed = true;
             t = s.t;
@@ -123,14 +124,7 @@ void split_binary(NavLog& log, Decoder& d) {
 
 template <class Decoder>
 void decode_can(NavLog& log, Decoder& d) {
-    const auto on = [&](const nav::NavSample& s) {
-        ++log.stats.samples;
-        if (!s.has(nav::NavSample::kTime)) {
-            ++log.stats.untimed_samples;
-            return;
-        }
-        log.samples.push_back(s);
-    };
+    const auto on = [&](const nav::NavSample& s) { keep_timed(log, s); };
     for (const auto& r : log.frames) {
         if constexpr (std::is_same_v<Decoder, navcan::OxtsCanDecoder>)
             d.feed(r.stamped, on);
@@ -196,18 +190,21 @@ NavLog read_nav_log(const std::string& path, NavProtocol protocol, const NavLogO
     log.bytes = read_all(path);
     log.stats.bytes = log.bytes.size();
     switch (protocol) {
-    case NavProtocol::Nmea: split_nmea(log, options); break;
-    case NavProtocol::Novatel: {
-        novatel::NovatelDecoder d;
-        split_binary(log, d);
-        break;
-    }
-    case NavProtocol::Ncom: {
-        ncom::NcomDecoder d;
-        split_binary(log, d);
-        break;
-    }
-    default: break;
+        case NavProtocol::Nmea:
+            split_nmea(log, options);
+            break;
+        case NavProtocol::Novatel: {
+            novatel::NovatelDecoder d;
+            split_binary(log, d);
+            break;
+        }
+        case NavProtocol::Ncom: {
+            ncom::NcomDecoder d;
+            split_binary(log, d);
+            break;
+        }
+        default:
+            break;
     }
     fill_times(log.messages);
     log.stats.messages = log.messages.size();
@@ -287,8 +284,8 @@ core::Trajectory nav_log_trajectory(const NavLog& log, const navpose::NavFrame& 
         if (vel.empty() || std::llabs(dt) > kExtrapolateNs) return end.second;
         auto v = vel.lower_bound(end.first);
         if (v == vel.end()) v = std::prev(v);
-        if (v != vel.begin() && std::llabs(std::prev(v)->first - end.first) <
-                                    std::llabs(v->first - end.first))
+        if (v != vel.begin() &&
+            std::llabs(std::prev(v)->first - end.first) < std::llabs(v->first - end.first))
             v = std::prev(v);
         return end.second + v->second * (double(dt) * 1e-9);
     };
@@ -349,10 +346,10 @@ std::string nav_log_summary(const NavLog& log) {
         is_can(log.protocol) ? "frames" : "messages", log.samples.size(), s.untimed_samples,
         d.bad_checksum, d.truncated, d.invalid_field, d.garbage_bytes, d.unsupported);
     if (is_can(log.protocol))
-        out += fmt::format(", {} malformed candump lines", s.candump.rejected()) +
-               (s.candump.first_bad_line
-                    ? fmt::format(" (first: line {})", s.candump.first_bad_line)
-                    : std::string());
+        out +=
+            fmt::format(", {} malformed candump lines", s.candump.rejected()) +
+            (s.candump.first_bad_line ? fmt::format(" (first: line {})", s.candump.first_bad_line)
+                                      : std::string());
     if (s.nmea_date_assumed) out += "; no RMC/ZDA in the log: the host's date was assumed";
     return out;
 }
