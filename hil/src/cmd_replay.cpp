@@ -21,7 +21,7 @@ void register_replay(CLI::App& app) {
         std::string from, until;
         bool top = false;
         double jitter_us = 0;
-        double spin_us = 1000;
+        double spin_us = static_cast<double>(replay::ReplayConfig{}.spin_ns) / 1000.0;
         bool quiet = false;
     };
     auto o = std::make_shared<Opts>();

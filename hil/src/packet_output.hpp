@@ -41,8 +41,8 @@ struct PacketOutputOptions {
     core::Nanos start_lead{0};
 };
 
-// `mirage emulate`'s start lead (and stream-bench's, which measures emulate's path): with it the
-// three-stream benchmark's late hand-overs fell from 133 to 27 (OS1-128; HDL-64E and VLP-16 0).
+// `mirage emulate`'s start lead (and stream-bench's, which measures emulate's path): it removed
+// most late hand-overs of the three-stream benchmark (recordings/bench/streams.md).
 inline constexpr core::Nanos kEmulateStartLead{100'000'000};
 
 struct PacketOutputTotals {

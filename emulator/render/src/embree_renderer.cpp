@@ -85,10 +85,7 @@ struct EmbreeRenderer::Impl {
     RTCScene top = nullptr;
     std::vector<RTCScene> children;                  // one per instanced mesh
     std::vector<std::vector<float>> vertex_buffers;  // padded copies, alive as long as Embree
-    // Top-scene geomID -> mesh index (direct geometry) or instance index (instance geometry).
-    std::vector<std::uint32_t> top_mesh;
-    std::vector<std::uint32_t> top_instance;
-    std::vector<Eigen::Matrix3f> instance_normal;  // indexed by Scene::instances index
+    std::vector<Eigen::Matrix3f> instance_normal;    // indexed by Scene::instances index
     // What a hit needs per top-scene geomID, flattened so make_hit chases no scene pointers.
     struct Slot {
         std::uint32_t mesh = kInvalidId, instance = kInvalidId;
@@ -97,7 +94,7 @@ struct EmbreeRenderer::Impl {
         std::size_t per_triangle_count = 0;
         const Eigen::Matrix3f* normal_matrix = nullptr;  // instances: inverse transpose
     };
-    std::vector<Slot> slots;
+    std::vector<Slot> slots;  // by top-scene geomID
     EmbreeBuildStats stats;
 
     std::mutex error_mutex;
@@ -187,22 +184,16 @@ struct EmbreeRenderer::Impl {
         return id;
     }
 
+    // Top-scene geomID `id` is mesh `mesh`, placed directly or as instance `instance`.
     void set_slot(unsigned id, std::uint32_t mesh, std::uint32_t instance) {
-        if (top_mesh.size() <= id) {
-            top_mesh.resize(id + 1, kInvalidId);
-            top_instance.resize(id + 1, kInvalidId);
-        }
-        top_mesh[id] = mesh;
-        top_instance[id] = instance;
+        if (slots.size() <= id) slots.resize(id + 1);
+        slots[id].mesh = mesh;
+        slots[id].instance = instance;
     }
 
-    // Fills `slots` once the top scene is complete.
-    void build_slots() {
-        slots.assign(top_mesh.size(), Slot{});
-        for (std::size_t id = 0; id < slots.size(); ++id) {
-            Slot& sl = slots[id];
-            sl.instance = top_instance[id];
-            sl.mesh = sl.instance != kInvalidId ? scene->instances[sl.instance].mesh : top_mesh[id];
+    // Completes every slot with its materials and normal matrix once the scene is built.
+    void finish_slots() {
+        for (Slot& sl : slots) {
             if (sl.mesh == kInvalidId) continue;
             const auto& mats = scene->meshes[sl.mesh].materials;
             if (mats.size() == 1) {
@@ -393,7 +384,7 @@ EmbreeRenderer::EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt)
     }
 
     im.commit(im.top);
-    im.build_slots();
+    im.finish_slots();
     const std::int64_t total = im.bytes.load();
     im.stats.bvh_bytes = total > 0 ? static_cast<std::uint64_t>(total) : 0;
 }

@@ -251,8 +251,7 @@ class PulseShader {
         const auto& rx = sensor_.receiver;
         std::vector<Contribution> buffer(s_count);  // a pulse's contributions: buffer[0, nc)
         const double alpha = env_.atmosphere.extinction_per_m, alpha2 = 2.0 * alpha;
-        // Power of each sub-ray per unit brdf·cos θ·τ²/R².
-        // Local: one shader serves all worker threads at once.
+        // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
         std::vector<double> weighted_k(s_count);
         for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
         for (std::size_t i = 0; i < n; ++i) {
@@ -410,12 +409,8 @@ class PulseShader {
                 orthonormal_basis(d, u, v);
                 const double tx = small_tan(jitter * rng.normal());
                 const double ty = small_tan(jitter * rng.normal());
-                // |d + tx·u + ty·v| = √(1 + e), e = tx² + ty², for orthonormal (d, u, v); for
-                // mrad jitter 1/√(1 + e) = 1 − e/2 + 3e²/8 with error below e³ < 1e-18.
-                const double e = tx * tx + ty * ty;
-                const double inv_len =
-                    e < 1e-6 ? 1.0 - e * (0.5 - 0.375 * e) : 1.0 / std::sqrt(1.0 + e);
-                d = (d + tx * u + ty * v) * inv_len;
+                // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
+                d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
             }
             const Eigen::Vector3d p = g.origin[i] + range * d;
             PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes

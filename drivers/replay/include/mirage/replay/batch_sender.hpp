@@ -50,8 +50,9 @@ class BatchSender {
     const std::array<std::uint8_t, 4>& address() const { return ip_; }
 
   private:
-    // Sends batch[0, n) as messages of at most kMaxBatch per call; returns the datagrams
-    // accepted and sets `consumed` to how many of batch were dealt with (sent or failed).
+    // Sends the start of `batch` as up to kMaxBatch messages (each one datagram or one GSO run);
+    // returns the datagrams accepted and sets `consumed` to how many of `batch` were dealt with
+    // (sent or failed). A run refused GSO stops it there, so the next call re-sends it singly.
     std::size_t send_some(std::span<const Outgoing> batch, std::size_t& consumed);
     std::size_t run_length(std::span<const Outgoing> batch, std::size_t i) const;
 
