@@ -116,6 +116,7 @@ void register_emulate(CLI::App& app) {
 
         Job job = load_job(in);
         prepare_sensor(job, o->wire, o->rpm);
+        if (!o->afap) set_render_lead(job, kEmulateRenderLead);
         const bool ouster = is_ouster(job.sensor.name);
 
         PacketOutputOptions po;

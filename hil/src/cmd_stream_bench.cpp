@@ -224,6 +224,7 @@ struct StreamRun {
     core::GpsTime t0{};
     std::int64_t anchor_ns = 0;
     std::vector<std::int64_t> handed_late;  // arrival at the output − deadline (< 0: ahead)
+    std::vector<std::int64_t> late_at;      // schedule time (from the first packet) of those > 1 ms
     std::uint64_t data_handed = 0, aux_handed = 0, ring_full = 0;
     render::RenderStats stats;
     PacketOutputTotals totals;
@@ -237,6 +238,8 @@ struct StreamRun {
 // The writer-thread side: record the packet's schedule, then hand it to the paced output. The
 // first packet anchors both this schedule and the output's Pacer (first packet = now + emulate's
 // start lead).
+constexpr std::int64_t kLateHandOver_ns = 1'000'000;  // behind schedule: > 1 ms late
+
 void hand_over(StreamRun& r, const wire::PacketView& p) {
     const std::uint64_t key = packet_key(p.bytes);
     const std::int64_t now = udp::Pacer::monotonic_ns();
@@ -249,6 +252,7 @@ void hand_over(StreamRun& r, const wire::PacketView& p) {
     const std::int64_t deadline = r.anchor_ns + (p.time - r.t0).count();
     const bool data = p.stream == wire::Stream::Data;
     r.handed_late.push_back(now - deadline);
+    if (now - deadline > kLateHandOver_ns) r.late_at.push_back(deadline - r.anchor_ns);
     if (!r.ring.push({key, deadline, data})) ++r.ring_full;
     ++(data ? r.data_handed : r.aux_handed);
     (*r.out)(p);
@@ -290,6 +294,7 @@ struct StreamRow {
     double pacer_p99_us = 0, pacer_worst_us = 0;
     std::uint64_t handed_late_1ms = 0;  // packets reaching the output > 1 ms after their deadline
     double handed_worst_ms = 0, handed_ahead_p50_ms = 0;
+    double late_first_s = 0, late_last_s = 0;  // when (schedule time) the late ones fell
     LatenessSummary wire;
     std::uint64_t pulses = 0, points = 0;
     // Thread CPU seconds: render workers (rays + trace + shade) and the writer thread in the sink
@@ -321,12 +326,16 @@ StreamRow summarize_stream(const StreamRun& r, double seconds) {
     s.pacer_worst_us = us(r.totals.worst_late.count());
     std::int64_t worst = INT64_MIN;
     for (const auto v : r.handed_late) {
-        if (v > 1'000'000) ++s.handed_late_1ms;
+        if (v > kLateHandOver_ns) ++s.handed_late_1ms;
         worst = std::max(worst, v);
     }
     if (!r.handed_late.empty()) {
         s.handed_worst_ms = static_cast<double>(worst) / 1e6;
         s.handed_ahead_p50_ms = -static_cast<double>(summarize(r.handed_late).p50) / 1e6;
+    }
+    if (!r.late_at.empty()) {
+        s.late_first_s = static_cast<double>(r.late_at.front()) / 1e9;
+        s.late_last_s = static_cast<double>(r.late_at.back()) / 1e9;
     }
     s.wire = summarize(r.wire_late);
     s.pulses = r.stats.pulses;
@@ -354,6 +363,7 @@ struct StreamsResult {
     // horizon / by a full queue.
     double sender_cpu_s = 0;
     int spin_margin_us = 50;
+    double horizon_ms = 0;
     std::uint64_t sender_wakeups = 0, horizon_waits = 0, full_waits = 0;
     std::string trajectory;
     double cpu_percent() const { return wall_s > 0 ? 100.0 * cpu_s / wall_s : 0; }
@@ -374,6 +384,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         sc.spin_margin = core::Nanos{std::int64_t{spin_margin_us} * 1'000};
         sender = std::make_shared<udp::SharedSender>(sc);
         res.spin_margin_us = spin_margin_us;
+        res.horizon_ms = static_cast<double>(sc.horizon.count()) / 1e6;
         res.fifo = sender->fifo();
         res.fifo_error = sender->fifo_error();
     }
@@ -394,6 +405,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         r->job.options.chunk_pulses = chunk_pulses;
         const WireOptions wo = wire_options(c);
         prepare_sensor(r->job, wo, 0);
+        set_render_lead(r->job, kEmulateRenderLead);  // as emulate
         r->rx = std::make_unique<udp::UdpReceiver>();
         const bool ouster = is_ouster(r->job.sensor.name);
         PacketOutputOptions po;
@@ -414,6 +426,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         // Reserve the per-packet series so the hot path never reallocates.
         const auto expect = static_cast<std::size_t>(secs * (r->wire.packets_per_second + 200.0));
         r->handed_late.reserve(expect + 4096);
+        r->late_at.reserve(4096);  // a few late ones should not allocate either
         r->wire_late.reserve(expect + 4096);
         runs.push_back(std::move(r));
     }
@@ -531,8 +544,9 @@ std::string markdown(const Report& r) {
     const auto& s = r.streams;
     o << fmt::format(
         "\n## Three streams at once in real time ({} s, trajectory {}, {} render worker "
-        "thread(s) per stream, {} pulses per chunk, {})\n\n",
+        "thread(s) per stream, {} pulses per chunk, renderers up to {} ms ahead, {})\n\n",
         r.seconds, s.trajectory, s.render_threads, s.chunk_pulses,
+        std::chrono::duration_cast<std::chrono::milliseconds>(kEmulateRenderLead).count(),
         fmt::format("{} {}",
                     s.shared ? "one shared deadline-ordered sending thread (--sender shared)"
                              : "each stream paced and sent by its writer thread (--sender "
@@ -551,9 +565,9 @@ std::string markdown(const Report& r) {
         o << fmt::format(
             "Shared sending thread: {:.1f} % of one core (sleep to {} µs before the earliest "
             "deadline, spin, send); {} early wake-ups by a submit; {} submits held back by the "
-            "20 ms horizon, {} by a full queue.\n\n",
+            "{:.0f} ms horizon, {} by a full queue.\n\n",
             s.wall_s > 0 ? 100 * s.sender_cpu_s / s.wall_s : 0.0, s.spin_margin_us,
-            s.sender_wakeups, s.horizon_waits, s.full_waits);
+            s.sender_wakeups, s.horizon_waits, s.horizon_ms, s.full_waits);
     o << "| stream | device pkt/s | received pkt/s | rate error % | data sent | data received | "
          "expected | aux sent/recv | failed sends | pacer late >100 µs | pacer p99 µs | pacer "
          "worst µs | handed >1 ms late | worst hand-over ms | real time |\n"
@@ -566,6 +580,12 @@ std::string markdown(const Report& r) {
             t.data_received, t.expected_data, t.aux_sent, t.aux_received, t.failed_sends,
             t.pacer_late, t.pacer_p99_us, t.pacer_worst_us, t.handed_late_1ms, t.handed_worst_ms,
             yes_no(t.real_time));
+    for (const auto& t : s.rows)
+        if (t.handed_late_1ms > 0)
+            o << fmt::format(
+                "\n{}: the {} late hand-overs fell between {:.3f} s and {:.3f} s of the "
+                "schedule.\n",
+                t.label, t.handed_late_1ms, t.late_first_s, t.late_last_s);
     o << "\nPacing error seen by the loopback receiver (SO_TIMESTAMPNS kernel time − scheduled "
          "time, every packet incl. position / IMU):\n\n"
          "| stream | packets | p50 µs | p99 µs | max µs | min µs | drift µs | lost | unmatched |\n"
@@ -586,21 +606,25 @@ std::string markdown(const Report& r) {
                          s.wall_s > 0 ? 100 * t.cpu_output_s / s.wall_s : 0.0);
     for (const auto& t : s.rows)
         if (!t.error.empty()) o << fmt::format("\nError in {}: {}\n", t.label, t.error);
-    o << "\n## Pacing probe (mirage::udp::run_pacing_probe, 1206-byte datagrams over loopback, "
-         "10 000 packets per second)\n\n"
-         "| run | packets recv/sched | p50 µs | p99 µs | max µs | > 50 µs | drift µs | pacer "
-         "wake p99 µs |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const auto& p : r.probes) {
-        if (!p.ran) {
-            o << fmt::format("| {} | {} | | | | | | |\n", p.label, p.note);
-            continue;
+    if (r.probes.empty()) {
+        o << "\n## Pacing probe\n\nNot run (--probe-seconds 0).\n";
+    } else {
+        o << "\n## Pacing probe (mirage::udp::run_pacing_probe, 1206-byte datagrams over loopback, "
+             "10 000 packets per second)\n\n"
+             "| run | packets recv/sched | p50 µs | p99 µs | max µs | > 50 µs | drift µs | pacer "
+             "wake p99 µs |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (const auto& p : r.probes) {
+            if (!p.ran) {
+                o << fmt::format("| {} | {} | | | | | | |\n", p.label, p.note);
+                continue;
+            }
+            const auto& w = p.report.wire;
+            o << fmt::format("| {} | {}/{} | {:.0f} | {:.0f} | {:.1f} | {} | {:+.1f} | {:.0f} |\n",
+                             p.label, p.report.received, p.report.scheduled,
+                             us(w.percentile(0.5).count()), us(w.percentile(0.99).count()),
+                             us(w.worst().count()), w.late(), us(p.report.drift.count()),
+                             us(p.report.pacer.percentile(0.99).count()));
         }
-        const auto& w = p.report.wire;
-        o << fmt::format("| {} | {}/{} | {:.0f} | {:.0f} | {:.1f} | {} | {:+.1f} | {:.0f} |\n",
-                         p.label, p.report.received, p.report.scheduled,
-                         us(w.percentile(0.5).count()), us(w.percentile(0.99).count()),
-                         us(w.worst().count()), w.late(), us(p.report.drift.count()),
-                         us(p.report.pacer.percentile(0.99).count()));
     }
     bool all_rt = !s.rows.empty();
     std::int64_t worst_p99 = 0, worst_drift = 0;
@@ -685,16 +709,18 @@ std::string json(const Report& r) {
             "{}, \"received_aux_packets\": {}, \"failed_sends\": {}, \"lost\": {}, "
             "\"unmatched\": {}, \"pacer_late\": {}, \"pacer_p99_us\": {:.1f}, "
             "\"pacer_worst_us\": {:.1f}, \"handed_late_1ms\": {}, \"handed_worst_ms\": {:.3f}, "
-            "\"handed_ahead_p50_ms\": {:.3f}, \"lateness_p50_us\": {:.1f}, \"lateness_p99_us\": "
+            "\"handed_ahead_p50_ms\": {:.3f}, \"late_first_s\": {:.3f}, \"late_last_s\": {:.3f}, "
+            "\"lateness_p50_us\": {:.1f}, \"lateness_p99_us\": "
             "{:.1f}, \"lateness_max_us\": {:.1f}, \"lateness_min_us\": {:.1f}, \"drift_us\": "
             "{:.1f}, \"pulses\": {}, \"points\": {}, \"cpu_render_seconds\": {:.3f}, "
             "\"cpu_output_seconds\": {:.3f}, \"real_time\": {}, \"error\": \"{}\"}}{}\n",
             t.label, t.device_packets_per_s, t.expected_data, t.data_sent, t.data_received,
             t.rx_packets_per_s, t.rate_error, t.aux_sent, t.aux_received, t.failed_sends, t.lost,
             t.unmatched, t.pacer_late, t.pacer_p99_us, t.pacer_worst_us, t.handed_late_1ms,
-            t.handed_worst_ms, t.handed_ahead_p50_ms, us(t.wire.p50), us(t.wire.p99),
-            us(t.wire.max), us(t.wire.min), us(t.wire.drift), t.pulses, t.points, t.cpu_render_s,
-            t.cpu_output_s, t.real_time, json_escape(t.error), i + 1 < s.rows.size() ? "," : "");
+            t.handed_worst_ms, t.handed_ahead_p50_ms, t.late_first_s, t.late_last_s, us(t.wire.p50),
+            us(t.wire.p99), us(t.wire.max), us(t.wire.min), us(t.wire.drift), t.pulses, t.points,
+            t.cpu_render_s, t.cpu_output_s, t.real_time, json_escape(t.error),
+            i + 1 < s.rows.size() ? "," : "");
     }
     o << "],\n\"pacing_probe\": [\n";
     for (std::size_t i = 0; i < r.probes.size(); ++i) {
@@ -728,12 +754,15 @@ void register_stream_bench(CLI::App& app) {
         int fifo_priority = 10;
         std::string sender = "shared";
         int spin_margin_us = 50;
+        std::string probe_seconds;  // empty: as --seconds
         bool quick = false;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--seconds", o->seconds,
                     "Seconds of the real-time streams and of each pacing probe run")
         ->capture_default_str();
+    cmd->add_option("--probe-seconds", o->probe_seconds,
+                    "Seconds of each pacing probe run if not --seconds (0: no probe)");
     cmd->add_option("--out-dir", o->out_dir, "Where streams.md and streams.json go")
         ->capture_default_str();
     cmd->add_option("--trajectory", o->trajectory,
@@ -793,13 +822,20 @@ void register_stream_bench(CLI::App& app) {
                                   o->render_threads, o->chunk_pulses, o->fifo_priority,
                                   o->sender == "shared", o->spin_margin_us);
 
-        // 3. Pacing probe, same duration.
-        std::printf("pacing probe at 10 kHz...\n");
-        std::fflush(stdout);
-        // (--quick: 1 s each, to keep the CI test short.)
-        const double probe_s = o->quick ? 1.0 : secs;
-        rep.probes.push_back(run_probe(probe_s, 0));
-        if (o->fifo_priority > 0) rep.probes.push_back(run_probe(probe_s, o->fifo_priority));
+        // 3. Pacing probe, by default as long as the streams (--quick: 1 s each, to keep the
+        // CI test short).
+        const double probe_s =
+            o->quick ? 1.0
+            : o->probe_seconds.empty()
+                ? secs
+                : static_cast<double>(parse_seconds(o->probe_seconds, "--probe-seconds").count()) /
+                      1e9;
+        if (probe_s > 0) {
+            std::printf("pacing probe at 10 kHz...\n");
+            std::fflush(stdout);
+            rep.probes.push_back(run_probe(probe_s, 0));
+            if (o->fifo_priority > 0) rep.probes.push_back(run_probe(probe_s, o->fifo_priority));
+        }
 
         // 4. Reports.
         const std::string md = markdown(rep);

@@ -48,6 +48,11 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 
 }  // namespace
 
+void set_render_lead(Job& job, core::Nanos lead) {
+    job.options.window_chunks = render::chunks_for_lead(
+        job.sensor, render::chunk_pulses(job.sensor, job.options.chunk_pulses), lead);
+}
+
 core::Nanos parse_seconds(const std::string& text, const std::string& what) {
     // Exact decimal digits to ns (no float seconds); negative durations make no sense here.
     const auto ns = core::parse_decimal_seconds(text);

@@ -37,9 +37,9 @@ struct JobInputs {
     // Re-simulation from a recorded navigation log instead of --trajectory (nav_log.hpp).
     std::string nav_log;
     std::string nav_protocol = "nmea";
-    std::string nav_origin;    // lat,lon,h: tangent-plane frame; empty = the scene's georef
+    std::string nav_origin;  // lat,lon,h: tangent-plane frame; empty = the scene's georef
     double nav_undulation_m = 0;
-    std::string nav_date;      // NMEA logs without RMC/ZDA: YYYY-MM-DD
+    std::string nav_date;  // NMEA logs without RMC/ZDA: YYYY-MM-DD
 };
 
 void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajectory = true);
@@ -63,6 +63,9 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
 std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, double& seconds);
 // Exact decimal seconds -> ns ("1.5" -> 1'500'000'000); throws ConfigError naming `what`.
 core::Nanos parse_seconds(const std::string& text, const std::string& what);
+// Lets the render workers finish chunks up to `lead` of firing time ahead of the one being
+// written (RenderOptions::window_chunks); call after the sensor is final.
+void set_render_lead(Job& job, core::Nanos lead);
 render::EmbreeOptions embree_options(const std::string& quality);
 
 }  // namespace mirage::hil

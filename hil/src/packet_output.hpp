@@ -44,6 +44,12 @@ struct PacketOutputOptions {
 // `mirage emulate`'s start lead (and stream-bench's, which measures emulate's path): it removed
 // most late hand-overs of the three-stream benchmark (recordings/bench/streams.md).
 inline constexpr core::Nanos kEmulateStartLead{100'000'000};
+// How far `mirage emulate`'s renderers may run ahead of the packet schedule (render::
+// RenderOptions::window_chunks; set_render_lead in job.hpp). Trajectory-driven output knows its
+// poses in advance, so a lead costs only memory (tens of MB for OS1-128 2048×10) and rides out
+// the tens of milliseconds a loaded 2-core machine can stall one stream's workers. The default
+// window (2 chunks per thread + 2) is only 19–57 ms of OS1-128 firing.
+inline constexpr core::Nanos kEmulateRenderLead{300'000'000};
 
 struct PacketOutputTotals {
     std::uint64_t packets = 0, bytes = 0, sent = 0, send_failed = 0, pcap_packets = 0;

@@ -15,7 +15,7 @@ namespace mirage::test {
 namespace {
 
 std::string render_file(const TempDir& tmp, const std::string& name, int threads, std::size_t chunk,
-                        std::uint64_t seed) {
+                        std::uint64_t seed, std::size_t window_chunks = 0) {
     scene::Scene s = plane_scene(400.0, Eigen::Affine3d::Identity(), 0.3);
     Eigen::Affine3d wall = Eigen::Affine3d::Identity();
     wall.translate(Eigen::Vector3d(20, 0, 0));
@@ -34,6 +34,7 @@ std::string render_file(const TempDir& tmp, const std::string& name, int threads
     opt.seed = seed;
     opt.threads = threads;
     opt.chunk_pulses = chunk;
+    opt.window_chunks = window_chunks;
     opt.duration = std::chrono::milliseconds(200);
     std::vector<core::StampedPose> samples{
         {core::GpsTime{}, {{0, 0, 1.8}, core::quaternion_from_rpy(0, 0, 0)}},
@@ -62,6 +63,29 @@ TEST(PipelineDeterminism, same_seed_gives_byte_identical_las_on_one_and_two_thre
     EXPECT_TRUE(one == two) << "1 vs 2 threads differ";
     EXPECT_TRUE(one == two_small) << "chunk size changes the output";
     EXPECT_FALSE(one == other) << "the seed has no effect";
+}
+
+// How far the workers may run ahead of the writer (emulate raises it for real-time output)
+// changes only memory and timing, never the points.
+TEST(PipelineDeterminism, render_window_does_not_change_the_output) {
+    TempDir tmp;
+    const std::string base = render_file(tmp, "w0.las", 2, 512, 5);
+    ASSERT_GT(base.size(), 375u + 30u * 10000u);
+    EXPECT_TRUE(base == render_file(tmp, "w1.las", 2, 512, 5, 1)) << "one chunk in flight";
+    EXPECT_TRUE(base == render_file(tmp, "w64.las", 2, 512, 5, 64)) << "64 chunks in flight";
+}
+
+// chunks_for_lead: the fewest chunks covering the lead's pulses, at least one.
+TEST(PipelineDeterminism, chunks_for_lead_covers_the_lead) {
+    const auto sensor = sensor::preset("vlp16");
+    const std::size_t chunk = render::chunk_pulses(sensor, 8192);
+    const core::Nanos lead{300'000'000};
+    const std::uint64_t pulses = sensor.scan->pulse_count(lead);
+    ASSERT_GT(pulses, 8192u);
+    const std::size_t n = render::chunks_for_lead(sensor, chunk, lead);
+    EXPECT_GE(n * chunk, pulses);
+    EXPECT_LT((n - 1) * chunk, pulses);
+    EXPECT_EQ(render::chunks_for_lead(sensor, chunk, core::Nanos{0}), 1u);
 }
 
 }  // namespace

@@ -485,6 +485,13 @@ std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requeste
     return std::max<std::size_t>(group, requested / group * group);
 }
 
+std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t chunk,
+                            core::Nanos lead) {
+    const std::uint64_t pulses = sensor.scan->pulse_count(lead);
+    const std::uint64_t c = std::max<std::size_t>(1, chunk);
+    return static_cast<std::size_t>(std::max<std::uint64_t>(1, (pulses + c - 1) / c));
+}
+
 std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor,
                                const core::Trajectory& trajectory, const core::Mount& mount,
                                core::GpsTime start, std::uint64_t first, std::size_t n) {
@@ -522,7 +529,8 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
 
     // Ordered hand-over: workers fill slots, this thread writes them in chunk order, so the
     // output is identical for any thread count. At most `window` chunks are in flight.
-    const std::uint64_t window = static_cast<std::uint64_t>(threads) * 2 + 2;
+    const std::uint64_t window =
+        opt.window_chunks > 0 ? opt.window_chunks : static_cast<std::uint64_t>(threads) * 2 + 2;
     std::mutex mu;
     std::condition_variable cv_done, cv_space;
     std::deque<std::unique_ptr<ChunkResult>> slots;  // slots[k] = chunk written_ + k

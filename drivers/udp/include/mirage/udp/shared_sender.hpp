@@ -25,12 +25,18 @@ enum class WakeMethod : std::uint8_t {
 };
 
 struct SharedSenderConfig {
-    core::Nanos spin_margin{50'000};      // sleep until this long before a deadline, then spin
-    core::Nanos horizon{20'000'000};      // submit() blocks while a deadline is further ahead
+    core::Nanos spin_margin{50'000};  // sleep until this long before a deadline, then spin
+    // submit() blocks while a deadline is further ahead. A producer is late only if it stays
+    // off the CPU longer than this: 20 ms was exceeded several times a minute on a loaded
+    // 2-core VM (recordings/bench/streams.md), 100 ms was not.
+    core::Nanos horizon{100'000'000};
     core::Nanos late_threshold{100'000};  // what counts as "late" in the statistics
-    std::size_t capacity = 1024;          // packets queued at most (all channels together)
-    std::size_t slot_bytes = 1500;        // initial buffer per slot; grows once to the largest
-    int fifo_priority = 0;                // > 0: the sending thread asks for SCHED_FIFO
+    // Packets queued at most (all channels together): a horizon of the three benchmark streams
+    // (~9000 packets/s) with room to spare. Slots are reused last-in first-out, so only as many
+    // as are ever queued at once grow to the largest packet.
+    std::size_t capacity = 4096;
+    std::size_t slot_bytes = 1500;  // initial buffer per slot; grows once to the largest
+    int fifo_priority = 0;          // > 0: the sending thread asks for SCHED_FIFO
     WakeMethod wake = WakeMethod::Futex;
 };
 

@@ -33,8 +33,12 @@ struct RenderOptions {
     int threads = 0;        // 0 = hardware concurrency
     core::GpsTime start{};  // time of pulse 0
     core::Nanos duration{std::chrono::seconds(1)};
-    bool noise = true;                // range noise, jitter, detector noise
-    std::size_t chunk_pulses = 8192;  // work unit handed between threads; results do not depend on it
+    bool noise = true;  // range noise, jitter, detector noise
+    std::size_t chunk_pulses =
+        8192;  // work unit handed between threads; results do not depend on it
+    // Chunks the workers may finish ahead of the one being written (0: 2 per thread + 2). A
+    // real-time output raises it so the renderers' lead rides out seconds of CPU contention.
+    std::size_t window_chunks = 0;
     physics::IntensityCalibration intensity;
 };
 
@@ -95,6 +99,8 @@ namespace mirage::render {
 // Pulses per work unit: `requested` rounded down to whole firing groups (at least one), so the
 // ray regrouping never splits a column. The benchmark's ceiling uses the same chunks.
 std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requested);
+// Chunks of `chunk` pulses that cover `lead` of the sensor's firing (at least one).
+std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t chunk, core::Nanos lead);
 
 // Pulses traced at once (whole firing groups): rays and hits of one batch stay in cache. A chunk
 // is traced in batches of this size from its first pulse.
