@@ -235,11 +235,11 @@ struct StreamRun {
     std::int64_t first_rx_ns = 0, last_rx_ns = 0;  // kernel times of first / last data packet
 };
 
+constexpr std::int64_t kLateHandOver_ns = 1'000'000;  // behind schedule: > 1 ms late
+
 // The writer-thread side: record the packet's schedule, then hand it to the paced output. The
 // first packet anchors both this schedule and the output's Pacer (first packet = now + emulate's
 // start lead).
-constexpr std::int64_t kLateHandOver_ns = 1'000'000;  // behind schedule: > 1 ms late
-
 void hand_over(StreamRun& r, const wire::PacketView& p) {
     const std::uint64_t key = packet_key(p.bytes);
     const std::int64_t now = udp::Pacer::monotonic_ns();

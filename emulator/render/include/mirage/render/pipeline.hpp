@@ -34,10 +34,11 @@ struct RenderOptions {
     core::GpsTime start{};  // time of pulse 0
     core::Nanos duration{std::chrono::seconds(1)};
     bool noise = true;  // range noise, jitter, detector noise
-    std::size_t chunk_pulses =
-        8192;  // work unit handed between threads; results do not depend on it
+    // Work unit handed between threads; results do not depend on it.
+    std::size_t chunk_pulses = 8192;
     // Chunks the workers may finish ahead of the one being written (0: 2 per thread + 2). A
-    // real-time output raises it so the renderers' lead rides out seconds of CPU contention.
+    // real-time output raises it so the renderers' lead rides out tens of milliseconds of CPU
+    // contention. Results do not depend on it either.
     std::size_t window_chunks = 0;
     physics::IntensityCalibration intensity;
 };
