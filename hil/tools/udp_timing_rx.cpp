@@ -7,6 +7,7 @@
 // repeating a short one (the 10-minute no-drift run), so the schedule needs no loop semantics.
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <netinet/udp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -98,12 +99,17 @@ int make_long(const std::string& in, const std::string& out, double seconds) {
     return 0;
 }
 
-int open_socket(const std::string& bind_addr, std::uint16_t port, int rcvbuf) {
+int open_socket(const std::string& bind_addr, std::uint16_t port, int rcvbuf, bool gro) {
     const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd < 0) return -1;
     const int one = 1;
     ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one);
+    // UDP GRO (Linux ≥ 5.0): a run of datagrams a sender passed as one GSO buffer stays one
+    // buffer up to this socket, instead of the kernel cutting it into datagrams on the way in;
+    // receive() cuts it by the segment size. At top speed that per-datagram kernel work, done on
+    // the sender's core over veth, otherwise caps the rate the receiver can take.
+    if (gro) ::setsockopt(fd, SOL_UDP, UDP_GRO, &one, sizeof one);
     // As root, beyond net.core.rmem_max: a top-speed burst must not overflow the queue.
     if (::setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf, sizeof rcvbuf) != 0)
         ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
@@ -122,6 +128,7 @@ struct RxOptions {
     std::string bind = "0.0.0.0";
     double start_timeout_s = 30, idle_s = 1.0;
     int rcvbuf = 256 << 20;
+    bool gro = true;
     std::string ready;
 };
 
@@ -161,18 +168,29 @@ std::vector<Received> receive(const std::vector<int>& fds, const std::vector<std
                 if (n <= 0) break;
                 for (int i = 0; i < n; ++i) {
                     std::int64_t ts = 0;
+                    std::size_t segment = 0;  // GRO segment size; 0: one datagram
                     auto& h = msgs[static_cast<std::size_t>(i)].msg_hdr;
-                    for (cmsghdr* c = CMSG_FIRSTHDR(&h); c; c = CMSG_NXTHDR(&h, c))
+                    for (cmsghdr* c = CMSG_FIRSTHDR(&h); c; c = CMSG_NXTHDR(&h, c)) {
                         if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
                             timespec t;
                             std::memcpy(&t, CMSG_DATA(c), sizeof t);
                             ts = static_cast<std::int64_t>(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+                        } else if (c->cmsg_level == SOL_UDP && c->cmsg_type == UDP_GRO) {
+                            int g = 0;
+                            std::memcpy(&g, CMSG_DATA(c), sizeof g);
+                            if (g > 0) segment = static_cast<std::size_t>(g);
                         }
-                    const auto len = msgs[static_cast<std::size_t>(i)].msg_len;
-                    out.push_back(
-                        {ts,
-                         payload_hash(static_cast<const std::uint8_t*>(h.msg_iov->iov_base), len),
-                         ports[s]});
+                    }
+                    const std::size_t len = msgs[static_cast<std::size_t>(i)].msg_len;
+                    const auto* base = static_cast<const std::uint8_t*>(h.msg_iov->iov_base);
+                    const std::size_t step = segment > 0 ? segment : len;
+                    // Every datagram of a GRO buffer arrived with it: same kernel time.
+                    std::size_t off = 0;
+                    do {
+                        const std::size_t m = std::min(step, len - off);
+                        out.push_back({ts, payload_hash(base + off, m), ports[s]});
+                        off += m;
+                    } while (off < len);
                 }
                 last_rx_mono = mirage::udp::Pacer::monotonic_ns();
                 if (static_cast<unsigned>(n) < kBatch) break;
@@ -294,6 +312,8 @@ int main(int argc, char** argv) {
     app.add_option("--idle", o.idle_s, "Stop this long after the last datagram (s)")
         ->capture_default_str();
     app.add_option("--ready", o.ready, "Create this file once the sockets are bound");
+    app.add_flag("!--no-gro", o.gro,
+                 "Do not ask for UDP GRO (each datagram then crosses the kernel on its own)");
     app.add_option("--json", json, "Write the result as one JSON object to this file");
     app.add_option("--label", label, "Name of the run in the output")->capture_default_str();
     app.add_option("--make-long", make_long_out,
@@ -313,7 +333,7 @@ int main(int argc, char** argv) {
         std::vector<int> fds;
         std::vector<std::uint16_t> ports(seen.begin(), seen.end());
         for (auto p : ports) {
-            const int fd = open_socket(o.bind, p, o.rcvbuf);
+            const int fd = open_socket(o.bind, p, o.rcvbuf, o.gro);
             if (fd < 0) {
                 std::fprintf(stderr, "udp-timing-rx: cannot bind %s:%u: %s\n", o.bind.c_str(),
                              static_cast<unsigned>(p), std::strerror(errno));
