@@ -32,8 +32,8 @@ struct Reader::Impl {
     std::uint64_t filtered = 0;
     std::vector<std::uint8_t> frame;  // re-framing buffer
     // The file's stdio buffer. libpcap reads each record with fread, and stdio's default
-    // (st_blksize, 4 KiB) made that a read() system call per three VLP-16 records: a fifth of
-    // top-speed replay's sender time. Freed after pcap_close (in ~Impl's body).
+    // (st_blksize, 4 KiB) made that a read() system call per three VLP-16 records: about 30 %
+    // of top-speed replay's sender time. Freed after pcap_close (in ~Impl's body).
     static constexpr std::size_t kReadBuffer = 1 << 20;
     std::unique_ptr<char[]> read_buffer;
 
