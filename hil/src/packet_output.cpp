@@ -52,24 +52,17 @@ PacketOutput::PacketOutput(PacketOutputOptions options)
         pcap_dst_ports_ = opt_.pcap_dest_ports;
     }
     if (!opt_.pcap_path.empty()) pcap_ = std::make_unique<pcap::Writer>(opt_.pcap_path, true);
-    if (sender_ && opt_.realtime && (opt_.use_shared_sender || opt_.shared_sender)) start_shared();
+    if (sender_ && opt_.realtime && opt_.shared_sender) start_shared();
 }
 
 void PacketOutput::start_shared() {
-    auto ss = opt_.shared_sender;
-    if (!ss) {
-        udp::SharedSenderConfig c;
-        c.fifo_priority = opt_.fifo_priority;
-        ss = std::make_shared<udp::SharedSender>(c);
-    }
+    const auto& ss = opt_.shared_sender;
     const auto id = ss->open(*sender_);
     shared_ = std::make_unique<SharedChannel>(ss, id);
-    // The sending thread is the one that needs FIFO: report its state as the output's.
+    // The sending thread is the one that needs FIFO: report its state as the output's (its
+    // owner reports a refusal).
     totals_.fifo = ss->fifo();
     totals_.fifo_error = ss->fifo_error();
-    if (ss->config().fifo_priority > 0 && !ss->fifo() && !opt_.shared_sender)
-        std::fprintf(stderr, "packet output: SCHED_FIFO %d not set (%s); pacing without it\n",
-                     ss->config().fifo_priority, totals_.fifo_error.c_str());
 }
 
 void PacketOutput::operator()(const wire::PacketView& packet) {

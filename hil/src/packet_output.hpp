@@ -29,11 +29,9 @@ struct PacketOutputOptions {
     int fifo_priority = 0;
     // Realtime UDP output through one deadline-ordered sending thread (udp::SharedSender) instead
     // of pacing in the calling thread: the caller then only waits while it is more than the
-    // sender's horizon ahead, and stays SCHED_OTHER. Give `shared_sender` to share one thread
-    // among several outputs (its own config sets FIFO); with use_shared_sender and none given,
-    // the output starts its own, SCHED_FIFO at fifo_priority when > 0.
+    // sender's horizon ahead, and stays SCHED_OTHER. The thread is shared among the outputs it
+    // is given to (its own config sets FIFO); stream-bench gives one to its three streams.
     // Ignored without `udp` or `realtime` (a capture alone is paced by the caller as before).
-    bool use_shared_sender = false;
     std::shared_ptr<udp::SharedSender> shared_sender;
     // Realtime: the first packet is due this long after it is produced, so the renderers build
     // a lead before sending starts (a start-up with three streams briefly renders slower than
