@@ -324,13 +324,11 @@ StreamRow summarize_stream(const StreamRun& r, double seconds) {
     s.pacer_late = r.totals.late;
     s.pacer_p99_us = us(r.totals.p99.count());
     s.pacer_worst_us = us(r.totals.worst_late.count());
-    std::int64_t worst = INT64_MIN;
-    for (const auto v : r.handed_late) {
-        if (v > kLateHandOver_ns) ++s.handed_late_1ms;
-        worst = std::max(worst, v);
-    }
+    s.handed_late_1ms = r.late_at.size();
     if (!r.handed_late.empty()) {
-        s.handed_worst_ms = static_cast<double>(worst) / 1e6;
+        s.handed_worst_ms =
+            static_cast<double>(*std::max_element(r.handed_late.begin(), r.handed_late.end())) /
+            1e6;
         s.handed_ahead_p50_ms = -static_cast<double>(summarize(r.handed_late).p50) / 1e6;
     }
     if (!r.late_at.empty()) {

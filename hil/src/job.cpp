@@ -49,8 +49,7 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 }  // namespace
 
 void set_render_lead(Job& job, core::Nanos lead) {
-    job.options.window_chunks = render::chunks_for_lead(
-        job.sensor, render::chunk_pulses(job.sensor, job.options.chunk_pulses), lead);
+    job.options.window_chunks = render::chunks_for_lead(job.sensor, job.options.chunk_pulses, lead);
 }
 
 core::Nanos parse_seconds(const std::string& text, const std::string& what) {

@@ -39,8 +39,8 @@ struct PacketOutputOptions {
     core::Nanos start_lead{0};
 };
 
-// `mirage emulate`'s start lead (and stream-bench's, which measures emulate's path): it removed
-// most late hand-overs of the three-stream benchmark (recordings/bench/streams.md).
+// `mirage emulate`'s start lead (stream-bench uses the same): three streams starting at once
+// render slower than real time for their first tens of milliseconds (recordings/bench/streams.md).
 inline constexpr core::Nanos kEmulateStartLead{100'000'000};
 // How far `mirage emulate`'s renderers may run ahead of the packet schedule (render::
 // RenderOptions::window_chunks; set_render_lead in job.hpp). Trajectory-driven output knows its

@@ -101,13 +101,13 @@ Reader::Reader(const std::string& path, const ReaderOptions& options) : impl_(ne
     impl_->path = path;
     char errbuf[PCAP_ERRBUF_SIZE] = {};
     // Nanosecond precision: libpcap scales µs files up, so ts.tv_usec always holds ns.
+    impl_->read_buffer = std::make_unique<char[]>(Impl::kReadBuffer);
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (f == nullptr) {
         const int err = errno;
         delete impl_;
         throw IoError(fmt::format("pcap reader '{}': {}", path, std::strerror(err)));
     }
-    impl_->read_buffer = std::make_unique<char[]>(Impl::kReadBuffer);
     std::setvbuf(f, impl_->read_buffer.get(), _IOFBF, Impl::kReadBuffer);
     impl_->handle = pcap_fopen_offline_with_tstamp_precision(f, PCAP_TSTAMP_PRECISION_NANO, errbuf);
     if (impl_->handle == nullptr) {

@@ -485,10 +485,10 @@ std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requeste
     return std::max<std::size_t>(group, requested / group * group);
 }
 
-std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t chunk,
+std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t requested,
                             core::Nanos lead) {
     const std::uint64_t pulses = sensor.scan->pulse_count(lead);
-    const std::uint64_t c = std::max<std::size_t>(1, chunk);
+    const std::uint64_t c = chunk_pulses(sensor, requested);  // ≥ 1: one firing group at least
     return static_cast<std::size_t>(std::max<std::uint64_t>(1, (pulses + c - 1) / c));
 }
 

@@ -100,8 +100,10 @@ namespace mirage::render {
 // Pulses per work unit: `requested` rounded down to whole firing groups (at least one), so the
 // ray regrouping never splits a column. The benchmark's ceiling uses the same chunks.
 std::size_t chunk_pulses(const sensor::SensorModel& sensor, std::size_t requested);
-// Chunks of `chunk` pulses that cover `lead` of the sensor's firing (at least one).
-std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t chunk, core::Nanos lead);
+// Chunks (of `requested` pulses rounded as chunk_pulses() does) that cover `lead` of the
+// sensor's firing, at least one.
+std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t requested,
+                            core::Nanos lead);
 
 // Pulses traced at once (whole firing groups): rays and hits of one batch stay in cache. A chunk
 // is traced in batches of this size from its first pulse.
