@@ -162,6 +162,9 @@ PacketOutputTotals PacketOutput::finish() {
         totals_.sent = c.sent;
         totals_.send_failed = c.failed;
         shared_stats = shared_->sender->lateness(shared_->id);
+        const udp::LatenessHistogram send = shared_->sender->send_durations(shared_->id);
+        totals_.send_p50 = send.percentile(0.50);
+        totals_.send_p99 = send.percentile(0.99);
     }
     if (opt_.status_line && started_) {
         if (std::chrono::steady_clock::now() - last_status_ > std::chrono::milliseconds(300))

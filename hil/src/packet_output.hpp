@@ -53,9 +53,10 @@ struct PacketOutputTotals {
     std::uint64_t packets = 0, bytes = 0, sent = 0, send_failed = 0, pcap_packets = 0;
     std::uint64_t late = 0;  // later than the pacer's threshold
     core::Nanos worst_late{0}, p50{0}, p99{0};
-    double seconds = 0;      // host time from the first packet to the last
-    bool fifo = false;       // the sending thread ran SCHED_FIFO
-    std::string fifo_error;  // why not, when it was asked for
+    core::Nanos send_p50{0}, send_p99{0};  // duration of the send calls (shared sender only)
+    double seconds = 0;                    // host time from the first packet to the last
+    bool fifo = false;                     // the sending thread ran SCHED_FIFO
+    std::string fifo_error;                // why not, when it was asked for
 };
 
 // A sensor's UDP streams: data on `data` or the vendor's port (2368 Velodyne, 7502 Ouster),

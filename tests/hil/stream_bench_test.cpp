@@ -56,6 +56,17 @@ TEST(StreamBench, quick_run_streams_three_sensors_and_encoders_outrun_devices) {
         // The pipeline renders exactly --seconds of pulses: whole packets of 3 s of the device.
         EXPECT_NEAR(sent[i], expected[i], 1.0 + 1e-3 * expected[i]) << "stream " << i;
     }
+    // The shared sender times its send calls (a loopback send: microseconds, not seconds) and
+    // its timed wake-ups.
+    const auto send_p99 = json_numbers(js, "send_p99_us");
+    ASSERT_EQ(send_p99.size(), 3u);
+    for (double v : send_p99) {
+        EXPECT_GT(v, 0.0);
+        EXPECT_LT(v, 1e6);
+    }
+    const auto wake_p99 = json_numbers(js, "sender_wake_late_p99_us");
+    ASSERT_EQ(wake_p99.size(), 1u);
+    EXPECT_GE(wake_p99[0], 0.0);
     // Closed-form device rates of the three streams (wire-formats.md): VLP-16 strongest
     // 1e9 / (24 × 55 296 ns), OS1-128 2048x10 = 2048 / 16 × 10.
     const auto device = json_numbers(js, "device_packets_per_s");

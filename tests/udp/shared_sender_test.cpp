@@ -20,6 +20,7 @@
 namespace {
 
 using mirage::core::Nanos;
+using mirage::udp::LatenessHistogram;
 using mirage::udp::Pacer;
 using mirage::udp::ReceivedDatagram;
 using mirage::udp::SenderConfig;
@@ -190,6 +191,15 @@ TEST(SharedSender, sends_packets_of_two_channels_in_global_deadline_order) {
     }
     EXPECT_EQ(ss.counters(ca).sent, 40u);
     EXPECT_EQ(ss.counters(cb).sent, 20u);
+    // Every send call is timed, per channel; a loopback send takes well under a second.
+    EXPECT_EQ(ss.send_durations(ca).count(), 40u);
+    EXPECT_EQ(ss.send_durations(cb).count(), 20u);
+    EXPECT_LT(ss.send_durations(ca).worst().count(), 1'000'000'000);
+    // The thread slept toward t0 − margin at least once (300 ms away), so a timed wake-up was
+    // measured; its overshoot is never negative.
+    const LatenessHistogram w = ss.wake_lateness();
+    EXPECT_GE(w.count(), 1u);
+    EXPECT_GE(w.best().count(), 0);
 }
 
 TEST(SharedSender, submit_beyond_the_horizon_blocks_until_within_it) {

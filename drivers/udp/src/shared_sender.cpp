@@ -121,6 +121,16 @@ LatenessHistogram SharedSender::lateness(ChannelId id) const {
     return id < channels_.size() ? channels_[id]->stats : LatenessHistogram(config_.late_threshold);
 }
 
+LatenessHistogram SharedSender::wake_lateness() const {
+    std::lock_guard lock(mutex_);
+    return wake_late_;
+}
+
+LatenessHistogram SharedSender::send_durations(ChannelId id) const {
+    std::lock_guard lock(mutex_);
+    return id < channels_.size() ? channels_[id]->send_ns : LatenessHistogram();
+}
+
 ChannelCounters SharedSender::counters(ChannelId id) const {
     const Channel* ch = nullptr;
     {
@@ -209,7 +219,11 @@ void SharedSender::sleep_until(std::int64_t wake_ns, std::unique_lock<std::mutex
         const std::uint32_t seen = futex_word_.load(std::memory_order_acquire);
         lock.unlock();
         futex_wait_until(futex_word_, seen, wake_ns);
+        const std::int64_t woke = Pacer::monotonic_ns();
         lock.lock();
+        // A submit that moved the plan (planned_wake_ns_ reset) cut the sleep short on purpose.
+        if (wake_ns != INT64_MAX && planned_wake_ns_ == wake_ns && woke >= wake_ns)
+            wake_late_.add(core::Nanos{woke - wake_ns});
     } else if (wake_ns == INT64_MAX) {
         cv_.wait(lock);
     } else {
@@ -222,6 +236,7 @@ void SharedSender::sleep_until(std::int64_t wake_ns, std::unique_lock<std::mutex
 }
 
 void SharedSender::run() {
+    pthread_setname_np(pthread_self(), "mirage-sender");  // for top, perf and ps
     // Timer slack (50 µs by default) would delay every wake-up by most of the spin margin.
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
     if (config_.fifo_priority > 0) {
@@ -267,6 +282,7 @@ void SharedSender::run() {
         const Slot& slot = slots_[top.slot];
         const bool ok =
             dest != nullptr && dest->send(slot.stream, std::span(slot.bytes.data(), slot.size));
+        ch->send_ns.add(core::Nanos{Pacer::monotonic_ns() - now});
         ch->stats.add(lateness);
         (ok ? ch->sent : ch->failed).fetch_add(1, std::memory_order_relaxed);
         if (lateness > ch->stats.threshold()) ch->late.fetch_add(1, std::memory_order_relaxed);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "mirage/render/pipeline.hpp"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -542,6 +544,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
     std::exception_ptr error;
 
     auto worker = [&]() {
+        pthread_setname_np(pthread_self(), "mirage-render");  // for top, perf and ps
         ChunkGeometry g;
         std::vector<Hit> hits;
         for (;;) {

@@ -90,6 +90,12 @@ class SharedSender {
     // packet has been sent, or after flush()).
     bool fifo() const { return fifo_.load(std::memory_order_acquire); }
     std::string fifo_error() const;
+    // How late the thread's timed sleeps ended against the instant asked for (timer and
+    // scheduler latency; a sleep cut short by a submit is not counted), and how long each send
+    // call of a channel took. Call after flush() or with the streams stopped: the thread writes
+    // them.
+    LatenessHistogram wake_lateness() const;
+    LatenessHistogram send_durations(ChannelId id) const;
     // CPU seconds the sending thread has used so far.
     double cpu_seconds() const;
     const SharedSenderConfig& config() const { return config_; }
@@ -110,6 +116,7 @@ class SharedSender {
         UdpSender* dest = nullptr;
         std::uint64_t pending = 0;  // submitted, not yet sent (under mutex_)
         LatenessHistogram stats;
+        LatenessHistogram send_ns;  // duration of each send call
         std::atomic<std::uint64_t> submitted{0}, sent{0}, failed{0}, late{0};
         std::atomic<std::int64_t> worst_ns{0};
         explicit Channel(core::Nanos threshold) : stats(threshold) {}
@@ -140,6 +147,7 @@ class SharedSender {
     std::string fifo_error_;  // written by the thread before fifo_ / started_ is published
     std::atomic<bool> started_{false};
     std::atomic<std::int64_t> cpu_ns_{0};
+    LatenessHistogram wake_late_;  // under mutex_
     std::thread thread_;
 };
 
