@@ -263,6 +263,11 @@ class PulseShader {
             std::size_t nc = 0;
             bool any_close = false;
             Transmission tau{};
+            // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
+            // into several returns would sum them): range span, power-weighted range, power, and
+            // the strongest sub-ray (the first of equals).
+            double lo = 0, hi = 0, sum_rp = 0, sum_p = 0, best_p = -1;
+            std::uint32_t best_sub = 0;
             for (std::size_t s = 0; s < s_count; ++s) {
                 if (!h[s].hit()) continue;
                 const double range = h[s].t;
@@ -283,6 +288,14 @@ class PulseShader {
                 const double p =
                     cos_inc > 0.0 ? weighted_k[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
                 buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
+                lo = nc == 1 ? range : std::min(lo, range);
+                hi = nc == 1 ? range : std::max(hi, range);
+                sum_rp += range * p;
+                sum_p += p;
+                if (p > best_p) {
+                    best_p = p;
+                    best_sub = static_cast<std::uint32_t>(s);
+                }
             }
             out.stats.pulses++;
             if (nc == 0) {
@@ -292,96 +305,94 @@ class PulseShader {
                     out.stats.misses++;
                 continue;
             }
-            emit_returns(pulse, g, i, h, std::span<Contribution>(buffer.data(), nc), tau, alpha,
-                         out);
+            // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can split
+            // them and one return takes them all, without sorting.
+            if (hi - lo <= separation_m_) {
+                const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
+                emit_points(pulse, g, i, h, std::span<const Return>(&one, 1), tau, alpha, out);
+            } else {
+                emit_split_returns(pulse, g, i, h, std::span<Contribution>(buffer.data(), nc), tau,
+                                   alpha, out);
+            }
         }
         out.stats.rays += hits.size();
     }
 
   private:
-    void emit_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
-                      std::span<Contribution> contrib, const Transmission& tau, double alpha,
-                      ChunkResult& out) const {
-        const auto& rx = sensor_.receiver;
-        // Group sub-ray hits into returns: sorted by range, split where the gap exceeds the
-        // pulse's range resolution c·τ/2 (two surfaces closer than that blend into one echo).
-        struct Return {
-            double range_m = 0, power_w = 0, best_power = -1;
+    // A return: sub-ray hits merged into one echo.
+    struct Return {
+        double range_m = 0;      // power-weighted mean range
+        double power_w = 0;      // summed received power
+        std::uint32_t best_sub;  // the strongest sub-ray, whose hit gives material and normal
+    };
+
+    // Sub-ray hits spread over more than c·τ/2: sorted by range and split where the gap exceeds
+    // it (two surfaces closer than that blend into one echo); then the reported ones are emitted.
+    void emit_split_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i,
+                            const Hit* h, std::span<Contribution> contrib, const Transmission& tau,
+                            double alpha, ChunkResult& out) const {
+        // Insertion sort by range: a handful of sub-rays.
+        for (std::size_t a = 1; a < contrib.size(); ++a) {
+            const Contribution c = contrib[a];
+            std::size_t b = a;
+            for (; b > 0 && (contrib[b - 1].range_m > c.range_m ||
+                             (contrib[b - 1].range_m == c.range_m && contrib[b - 1].sub > c.sub));
+                 --b)
+                contrib[b] = contrib[b - 1];
+            contrib[b] = c;
+        }
+        struct Sum {
+            double rp = 0, p = 0, best_p = -1;
             std::uint32_t best_sub = 0;
         };
-        Return returns[8];
+        Sum sums[8];
         int count = 0;
-        // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can split
-        // them and one return takes them all, in sub-ray order, without sorting.
-        double lo = contrib.front().range_m, hi = lo;
+        double last_range = -1e300;
         for (const Contribution& c : contrib) {
-            lo = std::min(lo, c.range_m);
-            hi = std::max(hi, c.range_m);
-        }
-        if (hi - lo <= separation_m_) {
-            Return& r = returns[0];
-            count = 1;
-            for (const Contribution& c : contrib) {
-                r.range_m += c.range_m * c.power_w;
-                r.power_w += c.power_w;
-                if (c.power_w > r.best_power) {
-                    r.best_power = c.power_w;
-                    r.best_sub = c.sub;
-                }
+            if (count == 0 || c.range_m - last_range > separation_m_) {
+                if (count == 8) break;
+                ++count;
             }
-        } else {
-            // Insertion sort by range: a handful of sub-rays.
-            for (std::size_t a = 1; a < contrib.size(); ++a) {
-                const Contribution c = contrib[a];
-                std::size_t b = a;
-                for (;
-                     b > 0 && (contrib[b - 1].range_m > c.range_m ||
-                               (contrib[b - 1].range_m == c.range_m && contrib[b - 1].sub > c.sub));
-                     --b)
-                    contrib[b] = contrib[b - 1];
-                contrib[b] = c;
+            Sum& r = sums[count - 1];
+            r.rp += c.range_m * c.power_w;
+            r.p += c.power_w;
+            if (c.power_w > r.best_p) {
+                r.best_p = c.power_w;
+                r.best_sub = c.sub;
             }
-            double last_range = -1e300;
-            for (const Contribution& c : contrib) {
-                if (count == 0 || c.range_m - last_range > separation_m_) {
-                    if (count == 8) break;
-                    ++count;
-                }
-                Return& r = returns[count - 1];
-                r.range_m += c.range_m * c.power_w;
-                r.power_w += c.power_w;
-                if (c.power_w > r.best_power) {
-                    r.best_power = c.power_w;
-                    r.best_sub = c.sub;
-                }
-                last_range = c.range_m;
-            }
-        }
-        for (int k = 0; k < count; ++k) {
-            Return& r = returns[k];
-            r.range_m = r.power_w > 0 ? r.range_m / r.power_w : contrib.front().range_m;
+            last_range = c.range_m;
         }
         // Which returns are reported: the strongest when one is kept, else the nearest ones.
-        int chosen[8];
-        int kept = 0;
-        const int max_returns = std::clamp(rx.max_returns, 1, 8);
-        if (max_returns == 1 || count == 1) {
+        auto to_return = [&](const Sum& r) {
+            return Return{r.p > 0 ? r.rp / r.p : contrib.front().range_m, r.p, r.best_sub};
+        };
+        Return chosen[8];
+        std::size_t kept = 0;
+        const int max_returns = std::clamp(sensor_.receiver.max_returns, 1, 8);
+        if (max_returns == 1) {
             int best = 0;
             for (int k = 1; k < count; ++k)
-                if (returns[k].power_w > returns[best].power_w) best = k;
-            chosen[kept++] = best;
+                if (sums[k].p > sums[best].p) best = k;
+            chosen[kept++] = to_return(sums[best]);
         } else {
-            for (int k = 0; k < count && kept < max_returns; ++k) chosen[kept++] = k;
+            for (int k = 0; k < count && kept < std::size_t(max_returns); ++k)
+                chosen[kept++] = to_return(sums[k]);
         }
+        emit_points(pulse, g, i, h, std::span<const Return>(chosen, kept), tau, alpha, out);
+    }
 
+    // Detection, noise and the point records of a pulse's reported returns (nearest first).
+    void emit_points(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
+                     std::span<const Return> returns, const Transmission& tau, double alpha,
+                     ChunkResult& out) const {
+        const auto& rx = sensor_.receiver;
         core::PulseRng rng(opt_.seed, pulse, 0);
         const sensor::PulseSpec& spec = g.specs[i];
         const double jitter = opt_.noise ? sensor_.noise.jitter_sigma_rad : 0.0;
         const double range_sigma = opt_.noise ? sensor_.noise.range_sigma_m : 0.0;
         const std::size_t first_point = out.points.size();
         bool any_void = false;
-        for (int k = 0; k < kept; ++k) {
-            const Return& r = returns[chosen[k]];
+        for (const Return& r : returns) {
             const Hit& hit = h[r.best_sub];
             const scene::Material& m = scene_.materials[hit.material];
             const double n_laser = radiometry_.laser_electrons(r.power_w);
