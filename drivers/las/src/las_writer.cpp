@@ -17,6 +17,7 @@
 
 #include "las_layout.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/core/rounding.hpp"
 #include "mirage/core/time.hpp"
 #include "signal_registry.hpp"
 
@@ -195,7 +196,7 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
 bool LasWriter::Impl::quantise(double local, int axis, std::int32_t& out) const noexcept {
     const double q = (shift[axis] + local) / opt.scale;
     if (!(q > -2147483648.5 && q < 2147483647.5)) return false;
-    out = static_cast<std::int32_t>(std::llround(q));
+    out = static_cast<std::int32_t>(core::round_half_away(q));
     return true;
 }
 
@@ -222,7 +223,7 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexce
         }
         r[15] = cls;
         r[16] = static_cast<std::uint8_t>(
-            static_cast<std::int8_t>(std::lround(std::clamp(angle, -90.0, 90.0))));
+            static_cast<std::int8_t>(core::round_half_away(std::clamp(angle, -90.0, 90.0))));
         r[17] = 0;
         put_u16(r + 18, p.point_source_id);
         put_f64(r + 20, gps);
@@ -238,7 +239,7 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexce
         r[16] = p.classification;
         r[17] = 0;
         const double units = std::clamp(angle / kScanAngleUnit_deg, -30000.0, 30000.0);
-        put_i16(r + 18, static_cast<std::int16_t>(std::lround(units)));
+        put_i16(r + 18, static_cast<std::int16_t>(core::round_half_away(units)));
         put_u16(r + 20, p.point_source_id);
         put_f64(r + 22, gps);
         if (opt.point_format == 7) put_rgb(r + 30, p);

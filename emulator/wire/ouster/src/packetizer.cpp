@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "mirage/core/rounding.hpp"
+
 namespace mirage::ouster {
 
 OusterPacketizer::OusterPacketizer(Descriptor d, PacketizerConfig cfg, wire::PacketFn sink)
@@ -75,10 +77,11 @@ void OusterPacketizer::add(std::span<const core::PointRecord> points) {
         Pixel& px = packet_.pixels[i];
         // Round once to the field's unit (RNG15: 8 mm), so the error stays within half of it.
         px.range_mm = d_.profile == Profile::Rng15Rfl8Nir8
-                          ? static_cast<std::uint32_t>(8 * std::lround(mm / 8.0))
-                          : static_cast<std::uint32_t>(std::lround(mm));
+                          ? static_cast<std::uint32_t>(8 * core::round_half_away(mm / 8.0))
+                          : static_cast<std::uint32_t>(core::round_half_away(mm));
         px.reflectivity = static_cast<std::uint16_t>(p.intensity >> 8);
-        px.signal = static_cast<std::uint16_t>(std::clamp(std::round(p.n_laser), 0.0, 65535.0));
+        px.signal =
+            static_cast<std::uint16_t>(std::clamp(core::round_half_away(p.n_laser), 0.0, 65535.0));
         px.nir = cfg_.nir;
         px.flags = 0;
     }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mirage/core/error.hpp"
+#include "mirage/core/rounding.hpp"
 #include "mirage/sensor/spinning.hpp"
 #include "mirage/velodyne/sensor_clock.hpp"
 
@@ -105,7 +106,8 @@ void Packetizer::add(std::span<const core::PointRecord> points) {
             ++stats_.returns_bad_channel;
             continue;
         }
-        const double raw = std::round(static_cast<double>(p.range_m) / model_.distance_lsb_m);
+        const double raw =
+            core::round_half_away(static_cast<double>(p.range_m) / model_.distance_lsb_m);
         if (!(static_cast<double>(p.range_m) <= opt_.max_range_m) || !(raw >= 1.0) ||
             raw > 65535.0) {
             ++stats_.returns_out_of_range;
@@ -179,7 +181,7 @@ void Packetizer::emit_packet() {
         RawChannel& ch = raw.block[static_cast<std::size_t>(bs.block)]
                              .channel[static_cast<std::size_t>(bs.slot)];
         ch.distance = static_cast<std::uint16_t>(
-            std::lround(static_cast<double>(v.range_m) / model_.distance_lsb_m));
+            core::round_half_away(static_cast<double>(v.range_m) / model_.distance_lsb_m));
         ch.reflectivity = v.reflectivity;
     };
     for (int q = 0; q < seqs_per_packet_; ++q)
