@@ -216,7 +216,15 @@ struct Analysis {
 // Matches received datagrams to the schedule in order: a datagram that is not the next expected
 // one is looked for in a window ahead (the ones skipped are lost); not found: unmatched (a
 // duplicate, a reordered one or a stranger).
-Analysis analyse(const std::vector<Scheduled>& sched, const std::vector<Received>& rx) {
+// One matched datagram: its index in the schedule and its timing error (for --errors).
+struct ErrorRow {
+    std::size_t index;
+    std::uint16_t port;
+    std::int64_t offset_ns, error_ns;
+};
+
+Analysis analyse(const std::vector<Scheduled>& sched, const std::vector<Received>& rx,
+                 std::vector<ErrorRow>* rows = nullptr) {
     constexpr std::size_t kWindow = 4096;
     Analysis a;
     a.scheduled = sched.size();
@@ -242,6 +250,7 @@ Analysis analyse(const std::vector<Scheduled>& sched, const std::vector<Received
         }
         matched_last_off = sched[k].offset_ns;
         err.push_back(r.rx_ns - (anchor + sched[k].offset_ns));
+        if (rows) rows->push_back({k, sched[k].port, sched[k].offset_ns, err.back()});
     }
     a.lost += sched.size() - j;
     a.matched = err.size();
@@ -299,7 +308,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "Receive a replayed capture with kernel timestamps and report the timing error against "
         "the capture's schedule (scripts/bench-replay)"};
-    std::string pcap, json, label = "replay", make_long_out;
+    std::string pcap, json, label = "replay", make_long_out, errors_csv;
     std::vector<std::uint16_t> port_list;
     double long_seconds = 600;
     RxOptions o;
@@ -316,6 +325,9 @@ int main(int argc, char** argv) {
                  "Do not ask for UDP GRO (each datagram then crosses the kernel on its own)");
     app.add_option("--json", json, "Write the result as one JSON object to this file");
     app.add_option("--label", label, "Name of the run in the output")->capture_default_str();
+    app.add_option("--errors", errors_csv,
+                   "Also write every matched datagram's timing error to this CSV (index, port, "
+                   "schedule offset ns, error ns), to see which packets are late");
     app.add_option("--make-long", make_long_out,
                    "Instead of receiving: write a capture repeating --pcap for --seconds");
     app.add_option("--seconds", long_seconds, "Length of --make-long's capture")
@@ -346,7 +358,18 @@ int main(int argc, char** argv) {
         if (!o.ready.empty()) std::ofstream(o.ready) << "ready\n";
         const auto rx = receive(fds, ports, sched.size(), o);
         for (int fd : fds) ::close(fd);
-        const Analysis a = analyse(sched, rx);
+        std::vector<ErrorRow> rows;
+        const Analysis a = analyse(sched, rx, errors_csv.empty() ? nullptr : &rows);
+        if (!errors_csv.empty()) {
+            std::ofstream f(errors_csv);
+            f << "index,port,schedule_offset_ns,error_ns\n";
+            for (const auto& r : rows)
+                f << r.index << ',' << r.port << ',' << r.offset_ns << ',' << r.error_ns << '\n';
+            if (!f) {
+                std::fprintf(stderr, "udp-timing-rx: cannot write '%s'\n", errors_csv.c_str());
+                return 1;
+            }
+        }
         std::printf(
             "udp-timing-rx %s: received %zu/%zu (matched %zu, lost %zu, unmatched %zu), error "
             "p50 %.1f p99 %.1f max %.1f min %.1f us, |error| p99 %.1f us, jitter p99 %.1f us, "

@@ -68,6 +68,15 @@ TEST(AirbornePattern, sawtooth_is_linear_in_time_and_turns_at_half_fov) {
     EXPECT_NEAR(p[2500].dir.z(), -1.0, 1e-7);
     EXPECT_LT(p[4000].dir.y(), 0.0f);
     EXPECT_NEAR(p[4000].azimuth_deg, 90.0, 1e-4);
+    // The direction is (0, −sin θ, −cos θ) of the scan angle to float precision (the generator
+    // evaluates sin and cos by series): within one float ulp of the library's values.
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        const double th = double(p[k].scan_angle_deg) * kDeg;
+        ASSERT_EQ(p[k].dir.x(), 0.0f) << k;
+        ASSERT_NEAR(p[k].dir.y(), -std::sin(th), 6e-8 * std::abs(std::sin(th)) + 1e-7) << k;
+        ASSERT_NEAR(p[k].dir.z(), -std::cos(th), 6e-8) << k;
+        ASSERT_FLOAT_EQ(p[k].azimuth_deg, th > 0 ? 90.0f : th < 0 ? 270.0f : 0.0f) << k;
+    }
 }
 
 TEST(AirbornePattern, sine_reaches_half_fov_and_flips_direction_at_the_turns) {

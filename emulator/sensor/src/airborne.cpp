@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "mirage/core/error.hpp"
+#include "mirage/core/rounding.hpp"
 #include "mirage/sensor/oscillating_mirror.hpp"
 #include "mirage/sensor/palmer.hpp"
 #include "mirage/sensor/polygon.hpp"
@@ -62,7 +63,7 @@ double AirbornePattern::cycles(std::uint64_t k) const {
 }
 
 std::int64_t AirbornePattern::time_ns(std::uint64_t k) const {
-    return std::llround(static_cast<double>(k) * period_ns_);
+    return static_cast<std::int64_t>(core::round_half_away(static_cast<double>(k) * period_ns_));
 }
 
 std::uint64_t AirbornePattern::pulse_count(core::Nanos duration) const {
@@ -86,8 +87,12 @@ void AirbornePattern::pulses(std::uint64_t first, std::size_t n, PulseSpec* out)
             p.dir.x() = static_cast<float>(cos_tilt_ * x - sin_tilt_ * z);
             p.dir.z() = static_cast<float>(sin_tilt_ * x + cos_tilt_ * z);
         }
-        const double az =
-            std::atan2(-double(p.dir.y()), double(p.dir.x())) * 180.0 / std::numbers::pi;
+        // A beam in the y-z plane (no tilt) points at ±90°: the value atan2 gives (π/2 is
+        // correctly rounded), without the library call.
+        const double y = -double(p.dir.y()), x = double(p.dir.x());
+        const double rad =
+            x == 0.0 && y != 0.0 ? std::copysign(std::numbers::pi / 2, y) : std::atan2(y, x);
+        const double az = rad * 180.0 / std::numbers::pi;
         p.azimuth_deg = static_cast<float>(detail::wrap_deg(az));
         if (p.azimuth_deg >= 360.0f) p.azimuth_deg = 0.0f;
     }

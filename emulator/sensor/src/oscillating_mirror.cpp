@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "mirage/core/error.hpp"
+#include "scan_math.hpp"
 
 namespace mirage::sensor {
 
@@ -45,8 +46,9 @@ void OscillatingMirrorPattern::steer(std::uint64_t k, PulseSpec& p) const {
         }
     }
     const double th = theta_deg * std::numbers::pi / 180.0;
-    p.dir =
-        Eigen::Vector3f(0.0f, static_cast<float>(-std::sin(th)), static_cast<float>(-std::cos(th)));
+    double sin_th = 0, cos_th = 1;
+    detail::small_sincos(th, sin_th, cos_th);
+    p.dir = Eigen::Vector3f(0.0f, static_cast<float>(-sin_th), static_cast<float>(-cos_th));
     p.scan_angle_deg = static_cast<float>(theta_deg);
     p.edge_of_flight_line = line_of(k + 1) != line_of(k) ? 1 : 0;
 }

@@ -22,8 +22,41 @@ std::uint64_t count_before(std::int64_t limit_ns, std::uint64_t hi, TimeOf t) {
     return lo;
 }
 
+// sin and cos of a scan angle, |x| ≤ π/4 by Taylor series (airborne mirrors swing ±10–40°):
+// the first omitted terms are below 5e-17 there, and the direction they build is stored as
+// float. Two libm calls per pulse were the largest item of the airborne pulse generator.
+// Larger angles fall back to the library.
+inline void small_sincos(double x, double& s, double& c) {
+    if (!(std::abs(x) <= 0.7853981633974483)) {
+        s = std::sin(x);
+        c = std::cos(x);
+        return;
+    }
+    // Taylor coefficients, highest power first (Horner).
+    constexpr double kSin[] = {
+        -1.0 / 1307674368000, 1.0 / 6227020800, -1.0 / 39916800, 1.0 / 362880,
+        -1.0 / 5040,          1.0 / 120,        -1.0 / 6,        1.0};
+    constexpr double kCos[] = {1.0 / 20922789888000,
+                               -1.0 / 87178291200,
+                               1.0 / 479001600,
+                               -1.0 / 3628800,
+                               1.0 / 40320,
+                               -1.0 / 720,
+                               1.0 / 24,
+                               -0.5,
+                               1.0};
+    const double x2 = x * x;
+    double ps = 0, pc = 0;
+    for (double k : kSin) ps = ps * x2 + k;
+    for (double k : kCos) pc = pc * x2 + k;
+    s = x * ps;
+    c = pc;
+}
+
 // Angle in [0, 360).
 inline double wrap_deg(double deg) {
+    // fmod returns |deg| < 360 unchanged: skip the library call for the usual case.
+    if (deg >= 0.0 && deg < 360.0) return deg;
     double a = std::fmod(deg, 360.0);
     if (a < 0) a += 360.0;
     if (a >= 360.0) a -= 360.0;
