@@ -32,14 +32,6 @@ inline double small_tan(double x) {
     return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
 }
 
-// 1/√(1 + x) for x ≥ 0. Jitter angles are milliradians or less, so x is tiny: the series to x³
-// errs by 35x⁴/128 < 3e-17 below x = 1e-4, under half an ulp, and takes the square root and the
-// division off the end of the per-point dependency chain (they were a third of its profile).
-inline double inv_sqrt_one_plus(double x) {
-    if (x < 1e-4) return 1.0 + x * (-0.5 + x * (0.375 + x * (-0.3125)));
-    return 1.0 / std::sqrt(1.0 + x);
-}
-
 // Two unit vectors orthogonal to unit d (and to each other), for sub-ray offsets and jitter.
 // Written out so each costs one square root and one division (Eigen's normalized() divides
 // per component, and these divisions dominated the per-pulse profile).
@@ -431,7 +423,7 @@ class PulseShader {
                 const double tx = small_tan(jitter * rng.normal());
                 const double ty = small_tan(jitter * rng.normal());
                 // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
-                d = (d + tx * u + ty * v) * inv_sqrt_one_plus(tx * tx + ty * ty);
+                d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
             }
             const Eigen::Vector3d p = g.origin[i] + range * d;
             PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes
