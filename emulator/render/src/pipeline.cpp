@@ -321,9 +321,9 @@ class PulseShader {
   private:
     // A return: sub-ray hits merged into one echo.
     struct Return {
-        double range_m = 0;      // power-weighted mean range
-        double power_w = 0;      // summed received power
-        std::uint32_t best_sub;  // the strongest sub-ray, whose hit gives material and normal
+        double range_m = 0;          // power-weighted mean range
+        double power_w = 0;          // summed received power
+        std::uint32_t best_sub = 0;  // the strongest sub-ray: its hit gives material, normal
     };
 
     // Sub-ray hits spread over more than c·τ/2: sorted by range and split where the gap exceeds
