@@ -66,7 +66,8 @@ TEST(StreamBench, quick_run_streams_three_sensors_and_encoders_outrun_devices) {
     }
     const auto wake_p99 = json_numbers(js, "sender_wake_late_p99_us");
     ASSERT_EQ(wake_p99.size(), 1u);
-    EXPECT_GE(wake_p99[0], 0.0);
+    EXPECT_GT(wake_p99[0], 0.0);  // thousands of timed wake-ups in 3 s: a histogram with data
+    EXPECT_LT(wake_p99[0], 1e6);
     // Closed-form device rates of the three streams (wire-formats.md): VLP-16 strongest
     // 1e9 / (24 × 55 296 ns), OS1-128 2048x10 = 2048 / 16 × 10.
     const auto device = json_numbers(js, "device_packets_per_s");

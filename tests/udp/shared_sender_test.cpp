@@ -196,10 +196,10 @@ TEST(SharedSender, sends_packets_of_two_channels_in_global_deadline_order) {
     EXPECT_EQ(ss.send_durations(cb).count(), 20u);
     EXPECT_LT(ss.send_durations(ca).worst().count(), 1'000'000'000);
     // The thread slept toward t0 − margin at least once (300 ms away), so a timed wake-up was
-    // measured; its overshoot is never negative.
+    // measured, and it ended after the instant asked for but not seconds after.
     const LatenessHistogram w = ss.wake_lateness();
     EXPECT_GE(w.count(), 1u);
-    EXPECT_GE(w.best().count(), 0);
+    EXPECT_LT(w.worst().count(), 1'000'000'000);
 }
 
 TEST(SharedSender, submit_beyond_the_horizon_blocks_until_within_it) {
