@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <ctime>
 #include <deque>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <span>
@@ -266,7 +267,8 @@ class PulseShader {
             // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
             // into several returns would sum them): range span, power-weighted range, power, and
             // the strongest sub-ray (the first of equals).
-            double lo = 0, hi = 0, sum_rp = 0, sum_p = 0, best_p = -1;
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            double sum_rp = 0, sum_p = 0, best_p = -1;
             std::uint32_t best_sub = 0;
             for (std::size_t s = 0; s < s_count; ++s) {
                 if (!h[s].hit()) continue;
@@ -288,8 +290,8 @@ class PulseShader {
                 const double p =
                     cos_inc > 0.0 ? weighted_k[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
                 buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
-                lo = nc == 1 ? range : std::min(lo, range);
-                hi = nc == 1 ? range : std::max(hi, range);
+                lo = std::min(lo, range);
+                hi = std::max(hi, range);
                 sum_rp += range * p;
                 sum_p += p;
                 if (p > best_p) {
