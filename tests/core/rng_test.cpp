@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 
 using namespace mirage::core;
 
@@ -103,4 +105,49 @@ TEST(PulseRng, different_streams_pulses_and_seeds_differ) {
         sxy += (a.uniform() - 0.5) * (b.uniform() - 0.5);
     }
     EXPECT_NEAR(sxy / 100'000 * 12.0, 0.0, 0.02);
+}
+
+// The batched draws the pipeline makes are PulseRng's, word for word and normal for normal,
+// including counts that are not a multiple of the vector width and words in both tails.
+TEST(PhiloxBlocks, equal_pulse_rng_draws_for_any_pulse_block_and_count) {
+    const std::uint64_t seed = 0xfeedbeef12345678ULL;
+    for (std::size_t n : {std::size_t{1}, std::size_t{7}, std::size_t{8}, std::size_t{29}}) {
+        std::vector<std::uint64_t> pulse(n);
+        std::vector<std::uint32_t> block(n);
+        for (std::size_t j = 0; j < n; ++j) {
+            pulse[j] = 0x1'0000'0000ULL * (j % 3) + 1000 * j + 17;
+            block[j] = static_cast<std::uint32_t>(j % 4);
+        }
+        std::array<std::vector<std::uint32_t>, 4> w;
+        for (auto& v : w) v.assign(n, 0);
+        philox_blocks(seed, 2, pulse.data(), block.data(), n,
+                      {w[0].data(), w[1].data(), w[2].data(), w[3].data()});
+        std::array<std::vector<double>, 4> z;
+        for (std::size_t k = 0; k < 4; ++k) {
+            z[k].assign(n, 0.0);
+            normals_of_words(w[k].data(), n, z[k].data());
+        }
+        for (std::size_t j = 0; j < n; ++j) {
+            PulseRng u(seed, pulse[j], 2), g(seed, pulse[j], 2);
+            for (std::uint32_t skip = 0; skip < 4 * block[j]; ++skip) {
+                u.uniform();
+                g.normal();
+            }
+            for (std::size_t k = 0; k < 4; ++k) {
+                EXPECT_EQ(uniform_of_word(w[k][j]), u.uniform()) << "n " << n << " j " << j;
+                EXPECT_EQ(z[k][j], g.normal()) << "n " << n << " j " << j;
+            }
+        }
+    }
+}
+
+TEST(PhiloxBlocks, normals_of_words_use_the_tail_formula_in_both_tails) {
+    // Words at p = 0.001, 0.5 and 0.999: Φ⁻¹ = −3.0902, 0, 3.0902 (to the approximation's 1e-9).
+    const std::uint32_t w[3] = {4294967u, 2147483647u, 4290672328u};
+    double z[3] = {};
+    normals_of_words(w, 3, z);
+    EXPECT_NEAR(z[0], -3.090232306, 1e-6);
+    EXPECT_NEAR(z[1], 0.0, 1e-9);
+    EXPECT_NEAR(z[2], 3.090232306, 1e-6);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(z[k], inverse_normal_cdf(uniform_of_word(w[k])));
 }

@@ -4,6 +4,7 @@
 #include <pthread.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -190,6 +191,28 @@ struct ChunkResult {
     RenderStats stats;
 };
 
+// A reported return of a batch, waiting for its noise draws.
+struct PendingReturn {
+    double range_m;     // power-weighted mean range
+    double power_w;     // summed received power
+    double tau1;        // one-way transmission at range_m (for the background)
+    std::uint32_t i;    // pulse within the batch
+    std::uint32_t hit;  // index in the batch's hits of the strongest sub-ray: material, normal
+    std::uint32_t k;    // index among its pulse's reported returns, nearest first
+};
+
+// A worker's buffers for shading one batch: the draws of all its returns are made at once, in
+// loops whose iterations are independent (a pulse's draws are one long dependency chain, and
+// drawn pulse by pulse they left the core waiting on it).
+struct ShadeScratch {
+    std::vector<PendingReturn> pending;
+    std::vector<std::uint64_t> pulse;
+    std::vector<std::uint32_t> block;
+    std::array<std::vector<std::uint32_t>, 4> words;
+    std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
+    std::vector<Contribution> contributions;
+};
+
 // Atmospheric transmission of one pulse: one exponential at its first hit; other ranges (its
 // sub-rays and returns, within metres) scale it by exp(−αΔR) from a cubic series whose error,
 // x⁴/24 with |x| < 1e-3, is below 1e-13 relative.
@@ -248,17 +271,19 @@ class PulseShader {
     }
 
     void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
-               const std::vector<sensor::SubRay>& subrays, ChunkResult& out) const {
+               const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
+               ChunkResult& out) const {
         const std::size_t n = g.specs.size();
         const std::size_t s_count = subrays.size();
         const auto& rx = sensor_.receiver;
-        std::vector<Contribution> buffer(s_count);  // a pulse's contributions: buffer[0, nc)
+        scratch.pending.clear();
+        scratch.contributions.resize(s_count);
+        Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, nc)
         const double alpha = env_.atmosphere.extinction_per_m, alpha2 = 2.0 * alpha;
         // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
         std::vector<double> weighted_k(s_count);
         for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
         for (std::size_t i = 0; i < n; ++i) {
-            const std::uint64_t pulse = first + i;
             const Hit* h = &hits[g.first_ray[i]];
             const Ray* ray = &g.rays[g.first_ray[i]];
             std::size_t nc = 0;
@@ -309,15 +334,18 @@ class PulseShader {
             }
             // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can split
             // them and one return takes them all, without sorting.
-            if (hi - lo <= separation_m_) {
-                const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
-                emit_points(pulse, g, i, h, std::span<const Return>(&one, 1), tau, alpha, out);
-            } else {
-                emit_split_returns(pulse, g, i, h, std::span<Contribution>(buffer.data(), nc), tau,
-                                   alpha, out);
-            }
+            const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
+            const auto ii = static_cast<std::uint32_t>(i);
+            if (hi - lo <= separation_m_)
+                add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), tau, alpha,
+                            scratch);
+            else
+                split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), tau, alpha,
+                              scratch);
         }
         out.stats.rays += hits.size();
+        draw(first, scratch);
+        emit_points(first, g, hits, scratch, out);
     }
 
   private:
@@ -330,9 +358,8 @@ class PulseShader {
 
     // Sub-ray hits spread over more than c·τ/2: sorted by range and split where the gap exceeds
     // it (two surfaces closer than that blend into one echo); then the reported ones are emitted.
-    void emit_split_returns(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i,
-                            const Hit* h, std::span<Contribution> contrib, const Transmission& tau,
-                            double alpha, ChunkResult& out) const {
+    void split_returns(std::uint32_t i, std::uint32_t first_hit, std::span<Contribution> contrib,
+                       const Transmission& tau, double alpha, ShadeScratch& scratch) const {
         // Insertion sort by range: a handful of sub-rays.
         for (std::size_t a = 1; a < contrib.size(); ++a) {
             const Contribution c = contrib[a];
@@ -380,81 +407,124 @@ class PulseShader {
             for (int k = 0; k < count && kept < std::size_t(max_returns); ++k)
                 chosen[kept++] = to_return(sums[k]);
         }
-        emit_points(pulse, g, i, h, std::span<const Return>(chosen, kept), tau, alpha, out);
+        add_returns(i, first_hit, std::span<const Return>(chosen, kept), tau, alpha, scratch);
     }
 
-    // Detection, noise and the point records of a pulse's reported returns (nearest first).
-    void emit_points(std::uint64_t pulse, const ChunkGeometry& g, std::size_t i, const Hit* h,
-                     std::span<const Return> returns, const Transmission& tau, double alpha,
-                     ChunkResult& out) const {
+    // Queues a pulse's reported returns (nearest first) for drawing and emission.
+    void add_returns(std::uint32_t i, std::uint32_t first_hit, std::span<const Return> returns,
+                     const Transmission& tau, double alpha, ShadeScratch& scratch) const {
+        const bool background = sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0;
+        std::uint32_t k = 0;
+        for (const Return& r : returns)
+            scratch.pending.push_back({r.range_m, r.power_w,
+                                       background ? tau.one_way(r.range_m, alpha) : 1.0, i,
+                                       first_hit + r.best_sub, k++});
+    }
+
+    // The normals of every pending return. Return k of a pulse uses Philox block k of the pulse's
+    // stream 0, one word per draw (void test, range, jitter x, jitter y), so a pulse's draws do
+    // not depend on which of its returns were voids.
+    void draw(std::uint64_t first, ShadeScratch& scratch) const {
+        if (!opt_.noise) return;
+        const std::size_t np = scratch.pending.size();
+        scratch.pulse.resize(np);
+        scratch.block.resize(np);
+        for (std::size_t j = 0; j < np; ++j) {
+            scratch.pulse[j] = first + scratch.pending[j].i;
+            scratch.block[j] = scratch.pending[j].k;
+        }
+        for (auto& w : scratch.words) w.resize(np);
+        core::philox_blocks(opt_.seed, 0, scratch.pulse.data(), scratch.block.data(), np,
+                            {scratch.words[0].data(), scratch.words[1].data(),
+                             scratch.words[2].data(), scratch.words[3].data()});
+        const bool need[4] = {true, sensor_.noise.range_sigma_m > 0.0,
+                              sensor_.noise.jitter_sigma_rad > 0.0,
+                              sensor_.noise.jitter_sigma_rad > 0.0};
+        for (std::size_t w = 0; w < 4; ++w) {
+            if (!need[w]) continue;
+            scratch.normals[w].resize(np);
+            core::normals_of_words(scratch.words[w].data(), np, scratch.normals[w].data());
+        }
+    }
+
+    // Detection, noise and the point records of the pending returns, pulse by pulse.
+    void emit_points(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
+                     const ShadeScratch& scratch, ChunkResult& out) const {
         const auto& rx = sensor_.receiver;
-        core::PulseRng rng(opt_.seed, pulse, 0);
-        const sensor::PulseSpec& spec = g.specs[i];
         const double jitter = opt_.noise ? sensor_.noise.jitter_sigma_rad : 0.0;
         const double range_sigma = opt_.noise ? sensor_.noise.range_sigma_m : 0.0;
-        const std::size_t first_point = out.points.size();
-        bool any_void = false;
-        for (const Return& r : returns) {
-            const Hit& hit = h[r.best_sub];
-            const scene::Material& m = scene_.materials[hit.material];
-            const double n_laser = radiometry_.laser_electrons(r.power_w);
-            double n_other = 0.0;
-            if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
-                const double cos_sun =
-                    sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
-                            : 0.0;
-                n_other = radiometry_.background_electrons_tau(
-                    m.reflectance / std::numbers::pi, cos_sun, tau.one_way(r.range_m, alpha));
+        const std::size_t np = scratch.pending.size();
+        const double* z_void = opt_.noise ? scratch.normals[0].data() : nullptr;
+        const double* z_range = range_sigma > 0.0 ? scratch.normals[1].data() : nullptr;
+        const double* z_jx = jitter > 0.0 ? scratch.normals[2].data() : nullptr;
+        const double* z_jy = jitter > 0.0 ? scratch.normals[3].data() : nullptr;
+        for (std::size_t j = 0; j < np;) {
+            const std::uint32_t i = scratch.pending[j].i;
+            const sensor::PulseSpec& spec = g.specs[i];
+            const std::size_t first_point = out.points.size();
+            bool any_void = false;
+            for (; j < np && scratch.pending[j].i == i; ++j) {
+                const PendingReturn& r = scratch.pending[j];
+                const Hit& hit = hits[r.hit];
+                const scene::Material& m = scene_.materials[hit.material];
+                const double n_laser = radiometry_.laser_electrons(r.power_w);
+                double n_other = 0.0;
+                if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+                    const double cos_sun =
+                        sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
+                                : 0.0;
+                    n_other = radiometry_.background_electrons_tau(m.reflectance / std::numbers::pi,
+                                                                   cos_sun, r.tau1);
+                }
+                if (radiometry_.is_void(n_laser, n_other, z_void ? z_void[j] : 0.0)) {
+                    any_void = true;
+                    continue;
+                }
+                double range = r.range_m;
+                if (z_range) range += range_sigma * z_range[j];
+                // Nearest multiple of the resolution (ranges are positive: floor(x + ½) is round).
+                if (inv_resolution_ > 0.0)
+                    range = std::floor(range * inv_resolution_ + 0.5) * rx.range_resolution_m;
+                Eigen::Vector3d d = g.direction[i];
+                if (z_jx) {
+                    // Platform jitter (seed 001 eq. 15): an angle about two axes orthogonal to
+                    // the beam, so the lateral error grows with range.
+                    Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+                    orthonormal_basis(d, u, v);
+                    const double tx = small_tan(jitter * z_jx[j]);
+                    const double ty = small_tan(jitter * z_jy[j]);
+                    // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
+                    d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
+                }
+                const Eigen::Vector3d p = g.origin[i] + range * d;
+                PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes
+                pt.x = p.x();
+                pt.y = p.y();
+                pt.z = p.z();
+                pt.t = opt_.start + core::Nanos(spec.t_ns);
+                pt.pulse = first + i;
+                pt.range_m = static_cast<float>(range);
+                pt.scan_angle_deg = spec.scan_angle_deg;
+                pt.azimuth_deg = spec.azimuth_deg;
+                pt.n_laser = n_laser;
+                pt.intensity = opt_.intensity.to_u16(n_laser, log_range_);
+                pt.channel = spec.channel;
+                pt.point_source_id = sensor_.point_source_id;
+                pt.red = m.red;
+                pt.green = m.green;
+                pt.blue = m.blue;
+                pt.classification = m.classification;
+                pt.scan_direction = spec.scan_direction;
+                pt.edge_of_flight_line = spec.edge_of_flight_line;
             }
-            const double z = opt_.noise ? rng.normal() : 0.0;
-            if (radiometry_.is_void(n_laser, n_other, z)) {
-                any_void = true;
-                continue;
+            const std::size_t emitted = out.points.size() - first_point;
+            for (std::size_t k = 0; k < emitted; ++k) {
+                out.points[first_point + k].return_number = static_cast<std::uint8_t>(k + 1);
+                out.points[first_point + k].number_of_returns = static_cast<std::uint8_t>(emitted);
             }
-            double range = r.range_m;
-            if (range_sigma > 0.0) range += range_sigma * rng.normal();
-            // Nearest multiple of the resolution (ranges are positive: floor(x + ½) is round).
-            if (inv_resolution_ > 0.0)
-                range = std::floor(range * inv_resolution_ + 0.5) * rx.range_resolution_m;
-            Eigen::Vector3d d = g.direction[i];
-            if (jitter > 0.0) {
-                // Platform jitter (seed 001 eq. 15): an angle about two axes orthogonal to the
-                // beam, so the lateral error grows with range.
-                Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
-                orthonormal_basis(d, u, v);
-                const double tx = small_tan(jitter * rng.normal());
-                const double ty = small_tan(jitter * rng.normal());
-                // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
-                d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
-            }
-            const Eigen::Vector3d p = g.origin[i] + range * d;
-            PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes
-            pt.x = p.x();
-            pt.y = p.y();
-            pt.z = p.z();
-            pt.t = opt_.start + core::Nanos(spec.t_ns);
-            pt.pulse = pulse;
-            pt.range_m = static_cast<float>(range);
-            pt.scan_angle_deg = spec.scan_angle_deg;
-            pt.azimuth_deg = spec.azimuth_deg;
-            pt.n_laser = n_laser;
-            pt.intensity = opt_.intensity.to_u16(n_laser, log_range_);
-            pt.channel = spec.channel;
-            pt.point_source_id = sensor_.point_source_id;
-            pt.red = m.red;
-            pt.green = m.green;
-            pt.blue = m.blue;
-            pt.classification = m.classification;
-            pt.scan_direction = spec.scan_direction;
-            pt.edge_of_flight_line = spec.edge_of_flight_line;
+            if (emitted == 0 && any_void) out.stats.voids++;
+            out.stats.points += emitted;
         }
-        const std::size_t emitted = out.points.size() - first_point;
-        for (std::size_t k = 0; k < emitted; ++k) {
-            out.points[first_point + k].return_number = static_cast<std::uint8_t>(k + 1);
-            out.points[first_point + k].number_of_returns = static_cast<std::uint8_t>(emitted);
-        }
-        if (emitted == 0 && any_void) out.stats.voids++;
-        out.stats.points += emitted;
     }
 
     const scene::Scene& scene_;
@@ -560,6 +630,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
         pthread_setname_np(pthread_self(), "mirage-render");  // for top, perf and ps
         ChunkGeometry g;
         std::vector<Hit> hits;
+        ShadeScratch scratch;
         for (;;) {
             std::uint64_t c;
             {
@@ -599,7 +670,7 @@ RenderStats render(const scene::Scene& scene, const Renderer& renderer,
                     const double c1 = thread_cpu_s();
                     renderer.intersect(g.rays, hits);
                     const double c2 = thread_cpu_s();
-                    shader.shade(first + done, g, hits, builder.subrays(), *result);
+                    shader.shade(first + done, g, hits, builder.subrays(), scratch, *result);
                     result->stats.cpu_rays_s += c1 - c0;
                     result->stats.cpu_trace_s += c2 - c1;
                     result->stats.cpu_shade_s += thread_cpu_s() - c2;
@@ -688,6 +759,7 @@ struct WindowRenderer::Impl {
     PulseShader shader;  // after env and opt, which it refers to
     ChunkGeometry g;
     std::vector<Hit> hits;
+    ShadeScratch scratch;
     ChunkResult result;
 };
 
@@ -710,7 +782,7 @@ void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t fi
         builder.build(first + done, k, m.g);
         m.hits.resize(m.g.rays.size());
         m.renderer.intersect(m.g.rays, m.hits);
-        m.shader.shade(first + done, m.g, m.hits, builder.subrays(), m.result);
+        m.shader.shade(first + done, m.g, m.hits, builder.subrays(), m.scratch, m.result);
     }
     m.result.points.swap(out);
     accumulate(stats, m.result.stats);

@@ -2,6 +2,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace mirage::core {
@@ -82,32 +83,59 @@ inline double PulseRng::uniform() {
     return (static_cast<double>(u) + 0.5) * 0x1p-32;
 }
 
-// Inverse normal CDF of one uniform (P. J. Acklam's rational approximation, relative error
-// < 1.2e-9): 95 % of draws need only two short polynomials, no log or trigonometry, which makes
-// per-pulse noise several times cheaper than Box–Muller. Tails use one log and one sqrt.
-inline double PulseRng::normal() {
-    static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
-                                   -2.759285104469687e+02, 1.383577518672690e+02,
-                                   -3.066479806614716e+01, 2.506628277459239e+00};
-    static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
-                                   -1.556989798598866e+02, 6.680131188771972e+01,
-                                   -1.328068155288572e+01};
-    static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
-                                   -2.400758277161838e+00, -2.549732539343734e+00,
-                                   4.374664141464968e+00,  2.938163982698783e+00};
-    static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01,
-                                   2.445134137142996e+00, 3.754408661907416e+00};
-    constexpr double kLow = 0.02425;
-    const double p = uniform();
-    if (p < kLow || p > 1.0 - kLow) {
-        const double q = std::sqrt(-2.0 * std::log(p < kLow ? p : 1.0 - p));
-        const double x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-                         ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
-        return p < kLow ? x : -x;
-    }
+// Inverse normal CDF (P. J. Acklam's rational approximation, relative error < 1.2e-9): 95 % of
+// draws need only two short polynomials, no log or trigonometry, which makes per-pulse noise
+// several times cheaper than Box–Muller. Tails use one log and one sqrt.
+namespace detail {
+inline constexpr double kAcklamA[] = {-3.969683028665376e+01, 2.209460984245205e+02,
+                                      -2.759285104469687e+02, 1.383577518672690e+02,
+                                      -3.066479806614716e+01, 2.506628277459239e+00};
+inline constexpr double kAcklamB[] = {-5.447609879822406e+01, 1.615858368580409e+02,
+                                      -1.556989798598866e+02, 6.680131188771972e+01,
+                                      -1.328068155288572e+01};
+inline constexpr double kAcklamC[] = {-7.784894002430293e-03, -3.223964580411365e-01,
+                                      -2.400758277161838e+00, -2.549732539343734e+00,
+                                      4.374664141464968e+00,  2.938163982698783e+00};
+inline constexpr double kAcklamD[] = {7.784695709041462e-03, 3.224671290700398e-01,
+                                      2.445134137142996e+00, 3.754408661907416e+00};
+inline constexpr double kAcklamLow = 0.02425;
+
+// The central region, |p − ½| ≤ ½ − kAcklamLow.
+inline double acklam_central(double p) {
+    const double* a = kAcklamA;
+    const double* b = kAcklamB;
     const double q = p - 0.5, r = q * q;
     return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
            (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
 }
+inline bool acklam_is_tail(double p) { return p < kAcklamLow || p > 1.0 - kAcklamLow; }
+inline double acklam_tail(double p) {
+    const double* c = kAcklamC;
+    const double* d = kAcklamD;
+    const double q = std::sqrt(-2.0 * std::log(p < kAcklamLow ? p : 1.0 - p));
+    const double x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+                     ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+    return p < kAcklamLow ? x : -x;
+}
+}  // namespace detail
+
+inline double inverse_normal_cdf(double p) {
+    return detail::acklam_is_tail(p) ? detail::acklam_tail(p) : detail::acklam_central(p);
+}
+
+// The uniform of one 32-bit word, as PulseRng::uniform() maps it.
+inline double uniform_of_word(std::uint32_t u) { return (static_cast<double>(u) + 0.5) * 0x1p-32; }
+
+inline double PulseRng::normal() { return inverse_normal_cdf(uniform()); }
+
+// Batched draws for many pulses at once, equal word for word to PulseRng: independent lanes let
+// the compiler vectorise what is a long dependency chain per pulse.
+//
+// Block `block[j]` of pulse `pulse[j]` (stream `stream`, key `seed`): word k of it, the
+// (4·block[j] + k)-th uniform PulseRng(seed, pulse[j], stream) draws, goes to words[k][j].
+void philox_blocks(std::uint64_t seed, std::uint32_t stream, const std::uint64_t* pulse,
+                   const std::uint32_t* block, std::size_t n, std::array<std::uint32_t*, 4> words);
+// Standard normals of n words: out[j] = inverse_normal_cdf(uniform_of_word(w[j])).
+void normals_of_words(const std::uint32_t* w, std::size_t n, double* out);
 
 }  // namespace mirage::core
