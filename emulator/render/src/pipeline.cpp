@@ -99,17 +99,25 @@ class ChunkBuilder {
         Eigen::Matrix3d m0 = Eigen::Matrix3d::Identity(), dm = Eigen::Matrix3d::Zero();
         Eigen::Vector3d o0 = Eigen::Vector3d::Zero(), dor = Eigen::Vector3d::Zero();
         std::size_t next_knot = 0;
+        // The pose at the end of one interval starts the next: one trajectory lookup per knot.
+        const auto pose_at = [&](std::int64_t t) {
+            return trajectory_.at(start_ + core::Nanos(t), hint) * mount_;
+        };
+        core::Pose p1 = pose_at(g.specs.empty() ? 0 : g.specs[0].t_ns);
+        Eigen::Matrix3d m1 = p1.attitude.toRotationMatrix();
         for (std::size_t i = 0; i < n; ++i) {
             const std::int64_t ti = g.specs[i].t_ns;
             if (i == next_knot) {
                 const std::size_t j = std::min(n - 1, i + kPoseStride);
                 t0 = ti;
                 const std::int64_t t1 = g.specs[j].t_ns;
-                const core::Pose p0 = trajectory_.at(start_ + core::Nanos(t0), hint) * mount_;
-                const core::Pose p1 =
-                    j == i ? p0 : trajectory_.at(start_ + core::Nanos(t1), hint) * mount_;
-                m0 = p0.attitude.toRotationMatrix();
-                dm = p1.attitude.toRotationMatrix() - m0;
+                const core::Pose p0 = p1;
+                m0 = m1;
+                if (j != i) {
+                    p1 = pose_at(t1);
+                    m1 = p1.attitude.toRotationMatrix();
+                }
+                dm = m1 - m0;
                 o0 = p0.position;
                 dor = p1.position - p0.position;
                 inv_dt = t1 != t0 ? 1.0 / double(t1 - t0) : 0.0;
