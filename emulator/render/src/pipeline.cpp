@@ -16,6 +16,7 @@
 #include <span>
 #include <thread>
 
+#include "mirage/core/exp_poly.hpp"
 #include "mirage/core/rng.hpp"
 
 namespace mirage::render {
@@ -219,35 +220,33 @@ struct ShadeScratch {
     std::array<std::vector<std::uint32_t>, 4> words;
     std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
     std::vector<Contribution> contributions;
+    std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see PulseShader::ray_terms
 };
 
-// Atmospheric transmission of one pulse: one exponential at its first hit; other ranges (its
-// sub-rays and returns, within metres) scale it by exp(−αΔR) from a cubic series whose error,
-// x⁴/24 with |x| < 1e-3, is below 1e-13 relative.
-class Transmission {
-  public:
-    double two_way(double range, double alpha2) {
-        if (ref_range_ >= 0.0) {
-            const double x = -alpha2 * (range - ref_range_);
-            if (std::abs(x) < 1e-3) return ref_tau1_ * ref_tau1_ * series(x);
-            return std::exp(-alpha2 * range);
-        }
-        ref_range_ = range;
-        ref_tau1_ = std::exp(-0.5 * alpha2 * range);
-        return ref_tau1_ * ref_tau1_;
-    }
-    double one_way(double range, double alpha) const {
-        if (ref_range_ >= 0.0) {
-            const double x = -alpha * (range - ref_range_);
-            if (std::abs(x) < 1e-3) return ref_tau1_ * series(x);
-        }
-        return std::exp(-alpha * range);
-    }
+// |cos θ| of a ray on its hit's normal, at most 1.
+inline double incidence(const Ray& ray, const Hit& hit) {
+    return std::min(1.0, std::abs(double(ray.dx * hit.nx + ray.dy * hit.ny + ray.dz * hit.nz)));
+}
 
-  private:
-    static double series(double x) { return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0))); }
-    double ref_range_ = -1.0, ref_tau1_ = 1.0;
-};
+// Per ray, brdf·cos θ·τ²/R² (eqs. 2–4 without the per-sensor constants): 0 for a ray without a
+// hit in [lo, hi] or seen edge-on (cos θ = 0 or NaN: no return); for a material whose `brdf`
+// entry is −1 (a specular lobe) −cos θ·τ²/R², the BRDF to be multiplied in per hit. One loop
+// without branches over all rays, so it vectorises, exponential and division included (the
+// pointers are `restrict`: GCC will not vectorise the table lookup otherwise). A miss's material
+// (kInvalidId) is clamped to a valid index and its term zeroed.
+void ray_terms(const Ray* __restrict ray, const Hit* __restrict h, const double* __restrict brdf,
+               std::uint32_t last_material, double lo, double hi, double alpha2, std::size_t count,
+               double* __restrict out) {
+    for (std::size_t r = 0; r < count; ++r) {
+        const double f = brdf[std::min(h[r].material, last_material)];
+        const double range = h[r].t;
+        const bool in_range = (range >= lo) & (range <= hi);  // `&`: no branch
+        const double cos_inc = incidence(ray[r], h[r]);
+        const double v = f * cos_inc * core::exp_poly(-alpha2 * range) / (range * range);
+        const double lit = cos_inc > 0.0 ? v : 0.0;  // two selects: GCC will not vectorise a
+        out[r] = in_range ? lit : 0.0;               // select on three combined conditions
+    }
+}
 
 class PulseShader {
   public:
@@ -269,13 +268,14 @@ class PulseShader {
           inv_resolution_(sensor.receiver.range_resolution_m > 0.0
                               ? 1.0 / sensor.receiver.range_resolution_m
                               : 0.0) {
-        // Per material, the BRDF terms that do not depend on incidence (diffuse and retro);
-        // only materials with a specular lobe evaluate monostatic_brdf per hit.
+        // Per material, the whole BRDF when it does not depend on incidence (diffuse and retro);
+        // −1 marks a specular lobe, evaluated by monostatic_brdf per hit.
         for (const scene::Material& m : scene.materials) {
             double f = m.reflectance / std::numbers::pi;
             if (m.retroreflective) f += m.retro_gain;
-            brdf_terms_.push_back({f, m.specular > 0.0});
+            brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
         }
+        if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     }
 
     void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
@@ -287,16 +287,18 @@ class PulseShader {
         scratch.pending.clear();
         scratch.contributions.resize(s_count);
         Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, nc)
-        const double alpha = env_.atmosphere.extinction_per_m, alpha2 = 2.0 * alpha;
+        const double alpha = env_.atmosphere.extinction_per_m;
         // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
         std::vector<double> weighted_k(s_count);
         for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
+        ray_terms(g, hits, scratch);
+        const double* terms = scratch.ray_terms.data();
         for (std::size_t i = 0; i < n; ++i) {
             const Hit* h = &hits[g.first_ray[i]];
             const Ray* ray = &g.rays[g.first_ray[i]];
+            const double* term = terms + g.first_ray[i];
             std::size_t nc = 0;
             bool any_close = false;
-            Transmission tau{};
             // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
             // into several returns would sum them): range span, power-weighted range, power, and
             // the strongest sub-ray (the first of equals).
@@ -311,17 +313,12 @@ class PulseShader {
                     continue;
                 }
                 if (range > rx.max_range_m) continue;
-                const double cos_inc =
-                    std::min(1.0, std::abs(double(ray[s].dx * h[s].nx + ray[s].dy * h[s].ny +
-                                                  ray[s].dz * h[s].nz)));
-                const BrdfTerms& bt = brdf_terms_[h[s].material];
-                const double brdf =
-                    bt.specular ? physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc)
-                                : bt.constant;
-                const double tau2 = tau.two_way(range, alpha2);
-                // A surface seen edge-on (cos θ = 0, or NaN) returns nothing: power 0.
-                const double p =
-                    cos_inc > 0.0 ? weighted_k[s] * brdf * cos_inc * tau2 / (range * range) : 0.0;
+                double t = term[s];
+                if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
+                    const double cos_inc = incidence(ray[s], h[s]);
+                    t = -t * physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc);
+                }
+                const double p = weighted_k[s] * t;
                 buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
                 lo = std::min(lo, range);
                 hi = std::max(hi, range);
@@ -345,10 +342,9 @@ class PulseShader {
             const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
             const auto ii = static_cast<std::uint32_t>(i);
             if (hi - lo <= separation_m_)
-                add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), tau, alpha,
-                            scratch);
+                add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), alpha, scratch);
             else
-                split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), tau, alpha,
+                split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), alpha,
                               scratch);
         }
         out.stats.rays += hits.size();
@@ -367,7 +363,7 @@ class PulseShader {
     // Sub-ray hits spread over more than c·τ/2: sorted by range and split where the gap exceeds
     // it (two surfaces closer than that blend into one echo); then the reported ones are emitted.
     void split_returns(std::uint32_t i, std::uint32_t first_hit, std::span<Contribution> contrib,
-                       const Transmission& tau, double alpha, ShadeScratch& scratch) const {
+                       double alpha, ShadeScratch& scratch) const {
         // Insertion sort by range: a handful of sub-rays.
         for (std::size_t a = 1; a < contrib.size(); ++a) {
             const Contribution c = contrib[a];
@@ -415,18 +411,29 @@ class PulseShader {
             for (int k = 0; k < count && kept < std::size_t(max_returns); ++k)
                 chosen[kept++] = to_return(sums[k]);
         }
-        add_returns(i, first_hit, std::span<const Return>(chosen, kept), tau, alpha, scratch);
+        add_returns(i, first_hit, std::span<const Return>(chosen, kept), alpha, scratch);
     }
 
     // Queues a pulse's reported returns (nearest first) for drawing and emission.
     void add_returns(std::uint32_t i, std::uint32_t first_hit, std::span<const Return> returns,
-                     const Transmission& tau, double alpha, ShadeScratch& scratch) const {
+                     double alpha, ShadeScratch& scratch) const {
         const bool background = sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0;
         std::uint32_t k = 0;
         for (const Return& r : returns)
             scratch.pending.push_back({r.range_m, r.power_w,
-                                       background ? tau.one_way(r.range_m, alpha) : 1.0, i,
+                                       background ? core::exp_poly(-alpha * r.range_m) : 1.0, i,
                                        first_hit + r.best_sub, k++});
+    }
+
+    // Per ray of the batch, brdf·cos θ·τ²/R²: see ray_terms() above.
+    void ray_terms(const ChunkGeometry& g, const std::vector<Hit>& hits,
+                   ShadeScratch& scratch) const {
+        scratch.ray_terms.resize(hits.size());
+        render::ray_terms(g.rays.data(), hits.data(), brdf_constant_.data(),
+                          static_cast<std::uint32_t>(brdf_constant_.size() - 1),
+                          sensor_.receiver.min_range_m, sensor_.receiver.max_range_m,
+                          2.0 * env_.atmosphere.extinction_per_m, hits.size(),
+                          scratch.ray_terms.data());
     }
 
     // The normals of every pending return. Return k of a pulse uses Philox block k of the pulse's
@@ -546,11 +553,7 @@ class PulseShader {
     double log_range_;  // of the intensity calibration, computed once
     double power_k_;
     double inv_resolution_;
-    struct BrdfTerms {
-        double constant;  // ρ_d/π (+ retro gain): the whole BRDF without a specular lobe
-        bool specular;
-    };
-    std::vector<BrdfTerms> brdf_terms_;  // by material index
+    std::vector<double> brdf_constant_;  // by material index: ρ_d/π (+ retro gain), or −1
 };
 
 double thread_cpu_s() {
