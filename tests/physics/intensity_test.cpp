@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "mirage/physics/radiometry.hpp"
 
@@ -50,4 +51,21 @@ TEST(IntensityCalibration, degenerate_range_is_a_step_at_n_max) {
     EXPECT_EQ(cal.to_u16(99.0), 0);
     EXPECT_EQ(cal.to_u16(100.0), 65535);
     EXPECT_EQ(cal.to_u8(1e4), 255);
+}
+
+// The batched map the pipeline uses gives to_u16's value for every input: across the range, at
+// both ends, outside it, for NaN, and for the degenerate (step) calibrations.
+TEST(IntensityCalibration, to_u16_many_equals_to_u16) {
+    std::vector<double> n = {0.0, -1.0,           std::nan(""), 10.0,     10.000001,
+                             1e6, 1e6 * 0.999999, 2e6,          HUGE_VAL, 5.0};
+    for (double x = 9.0; x < 1.2e6; x *= 1.000037) n.push_back(x);
+    for (const IntensityCalibration cal :
+         {IntensityCalibration{10.0, 1e6}, IntensityCalibration{1.0, 2.0},
+          IntensityCalibration{0.0, 1e6}, IntensityCalibration{5.0, 5.0}}) {
+        std::vector<std::uint16_t> got(n.size());
+        cal.to_u16_many(n.data(), n.size(), got.data());
+        std::size_t differ = 0;
+        for (std::size_t j = 0; j < n.size(); ++j) differ += got[j] != cal.to_u16(n[j]);
+        EXPECT_EQ(differ, 0u) << cal.n_min << " " << cal.n_max;
+    }
 }

@@ -221,6 +221,8 @@ struct ShadeScratch {
     std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
     std::vector<Contribution> contributions;
     std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see PulseShader::ray_terms
+    std::vector<double> n_laser;    // per pending return: photo-electrons
+    std::vector<std::uint16_t> intensity;  // and their calibrated intensity
 };
 
 // |cos θ| of a ray on its hit's normal, at most 1.
@@ -261,7 +263,6 @@ class PulseShader {
           to_sun_(env.sun.to_sun_enu()),
           // Sub-ray hits closer than the pulse's range resolution merge into one return.
           separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s),
-          log_range_(opt.intensity.log_range()),
           // Received power of unit weight, range, BRDF, incidence and transmission: every
           // sub-ray's power is this times w·brdf·cos θ·τ²/R² (eqs. 2–4 with the constants folded).
           power_k_(radiometry_.laser_power_w(1.0, 1.0, 1.0, 1.0, 1.0)),
@@ -349,6 +350,14 @@ class PulseShader {
         }
         out.stats.rays += hits.size();
         draw(first, scratch);
+        // Photo-electrons and intensity of every pending return, in loops that vectorise (a
+        // logarithm per point was a library call); voids among them are computed and unused.
+        const std::size_t np = scratch.pending.size();
+        scratch.n_laser.resize(np);
+        scratch.intensity.resize(np);
+        for (std::size_t j = 0; j < np; ++j)
+            scratch.n_laser[j] = radiometry_.laser_electrons(scratch.pending[j].power_w);
+        opt_.intensity.to_u16_many(scratch.n_laser.data(), np, scratch.intensity.data());
         emit_points(first, g, hits, scratch, out);
     }
 
@@ -482,7 +491,7 @@ class PulseShader {
                 const PendingReturn& r = scratch.pending[j];
                 const Hit& hit = hits[r.hit];
                 const scene::Material& m = scene_.materials[hit.material];
-                const double n_laser = radiometry_.laser_electrons(r.power_w);
+                const double n_laser = scratch.n_laser[j];
                 double n_other = 0.0;
                 if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
                     const double cos_sun =
@@ -522,7 +531,7 @@ class PulseShader {
                 pt.scan_angle_deg = spec.scan_angle_deg;
                 pt.azimuth_deg = spec.azimuth_deg;
                 pt.n_laser = n_laser;
-                pt.intensity = opt_.intensity.to_u16(n_laser, log_range_);
+                pt.intensity = scratch.intensity[j];
                 pt.channel = spec.channel;
                 pt.point_source_id = sensor_.point_source_id;
                 pt.red = m.red;
@@ -550,7 +559,6 @@ class PulseShader {
     bool sun_up_;
     Eigen::Vector3d to_sun_;
     double separation_m_;
-    double log_range_;  // of the intensity calibration, computed once
     double power_k_;
     double inv_resolution_;
     std::vector<double> brdf_constant_;  // by material index: ρ_d/π (+ retro gain), or −1

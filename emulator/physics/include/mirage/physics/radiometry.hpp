@@ -252,6 +252,10 @@ struct IntensityCalibration {
         // fraction ∈ [0, 1]: adding ½ and truncating rounds to nearest without a libm call.
         return static_cast<std::uint16_t>(fraction(n_laser, log_range) * 65535.0 + 0.5);
     }
+    // to_u16 of n values at once, in a loop that vectorises (core::log_poly, within 2 ulp of
+    // std::log, instead of a library call per value): equal to to_u16 except where a value lies
+    // within a few ulp of a rounding boundary.
+    void to_u16_many(const double* n_laser, std::size_t count, std::uint16_t* out) const;
     // Fraction in [0, 1] of the log-scaled range (the map above before scaling).
     double fraction(double n, double log_range) const {
         if (!(n_min > 0.0) || !(n_max > n_min)) return n >= n_max ? 1.0 : 0.0;
