@@ -46,16 +46,23 @@ void write_reports(const BenchReport& r, const std::string& dir) {
             "{:.3f} s, {:.1f} MB = {:.1f} bytes per stored triangle.\n\n",
             r.triangles_placed, r.unique_triangles, r.scene_seconds, r.bvh_build_seconds,
             double(r.bvh_bytes) / 1e6, bpt);
-        md << "## Pipeline against the Embree ceiling (same rays, same threads)\n\n"
-              "| sensor | sub-rays | pulses | pipeline M pulses/s | M points/s | ceiling M "
-              "pulses/s | ceiling M "
-              "rays/s | ratio | × real time |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        const int repeats = r.throughput.empty() ? 1 : r.throughput.front().repeats;
+        md << "## Pipeline against the Embree ceiling (same rays, same threads)\n\n";
+        md << fmt::format(
+            "Pipeline and ceiling alternate, {} time(s) each per row; the rates are the best of "
+            "each (the runs least disturbed by other load), the last column the range of the "
+            "ratio within each pair.\n\n",
+            repeats);
+        md << "| sensor | sub-rays | pulses | pipeline M pulses/s | M points/s | ceiling M "
+              "pulses/s | ceiling M rays/s | ratio | × real time | ratio per pair |\n"
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
         for (const auto& t : r.throughput)
             md << fmt::format(
-                "| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.2f} | {:.1f} |\n",
+                "| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.2f} | {:.1f} | "
+                "{:.2f}–{:.2f} |\n",
                 t.sensor, t.sub_rays, t.pulses, t.pipeline_pulses_per_s / 1e6,
                 t.pipeline_points_per_s / 1e6, t.ceiling_pulses_per_s / 1e6,
-                t.ceiling_rays_per_s / 1e6, t.ratio(), t.x_real_time());
+                t.ceiling_rays_per_s / 1e6, t.ratio(), t.x_real_time(), t.ratio_min, t.ratio_max);
         md << fmt::format(
             "\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} "
             "points).\n\n",
@@ -93,10 +100,12 @@ void write_reports(const BenchReport& r, const std::string& dir) {
                 "    {{\"sensor\": \"{}\", \"sub_rays\": {}, \"pulses\": {}, \"points\": {}, "
                 "\"pipeline_pulses_per_s\": {}, \"pipeline_points_per_s\": {}, "
                 "\"ceiling_pulses_per_s\": {}, "
-                "\"ceiling_rays_per_s\": {}, \"ratio\": {}, \"x_real_time\": {}}}{}\n",
+                "\"ceiling_rays_per_s\": {}, \"ratio\": {}, \"x_real_time\": {}, "
+                "\"repeats\": {}, \"ratio_min\": {}, \"ratio_max\": {}}}{}\n",
                 t.sensor, t.sub_rays, t.pulses, t.points, t.pipeline_pulses_per_s,
                 t.pipeline_points_per_s, t.ceiling_pulses_per_s, t.ceiling_rays_per_s, t.ratio(),
-                t.x_real_time(), i + 1 < r.throughput.size() ? "," : "");
+                t.x_real_time(), t.repeats, t.ratio_min, t.ratio_max,
+                i + 1 < r.throughput.size() ? "," : "");
         }
         js << "  ],\n  \"time_vs_error\": [\n";
         for (std::size_t i = 0; i < r.errors.size(); ++i) {

@@ -13,6 +13,10 @@ struct ThroughputRow {
     double real_pulse_rate = 0;
     double pipeline_pulses_per_s = 0, pipeline_points_per_s = 0;
     double ceiling_pulses_per_s = 0, ceiling_rays_per_s = 0;
+    // Pipeline and ceiling are each the best of `repeats` interleaved runs (the least disturbed
+    // by other load on the machine); the ratio of each run's pair spans [ratio_min, ratio_max].
+    int repeats = 1;
+    double ratio_min = 0, ratio_max = 0;
     double ratio() const {
         return ceiling_pulses_per_s > 0 ? pipeline_pulses_per_s / ceiling_pulses_per_s : 0;
     }

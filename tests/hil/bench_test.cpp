@@ -19,7 +19,7 @@ double json_number(const std::string& js, const std::string& key) {
 
 TEST(Bench, quick_run_reports_pipeline_ceiling_and_error_figures) {
     TempDir tmp;
-    const auto r = run_mirage("bench --quick --out-dir " + tmp.path().string());
+    const auto r = run_mirage("bench --quick --repeat 2 --out-dir " + tmp.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::ifstream f(tmp.file("report.json"));
     std::stringstream ss;
@@ -33,6 +33,12 @@ TEST(Bench, quick_run_reports_pipeline_ceiling_and_error_figures) {
     const double ratio = json_number(js, "ratio");
     EXPECT_GT(ratio, 0.0);
     EXPECT_LT(ratio, 1.5);
+    // Two alternating pipeline/ceiling pairs per row, the ratio of each pair reported.
+    EXPECT_EQ(json_number(js, "repeats"), 2.0);
+    const double lo = json_number(js, "ratio_min"), hi = json_number(js, "ratio_max");
+    EXPECT_GT(lo, 0.0);
+    EXPECT_LE(lo, hi);
+    EXPECT_LT(hi, 1.5);
     EXPECT_GE(json_number(js, "range_rms_m"), 0.0);
     std::ifstream svg(tmp.file("time_vs_error.svg"));
     EXPECT_TRUE(svg.good());
