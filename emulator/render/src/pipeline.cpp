@@ -521,7 +521,7 @@ class PulseShader {
                     d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
                 }
                 const Eigen::Vector3d p = g.origin[i] + range * d;
-                PointRecord& pt = out.points.emplace_back();  // filled in place: 112 bytes
+                PointRecord& pt = out.points.emplace_back();  // filled in place, no temporary
                 pt.x = p.x();
                 pt.y = p.y();
                 pt.z = p.z();
