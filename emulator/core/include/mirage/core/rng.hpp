@@ -72,6 +72,9 @@ inline std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> c,
 // 32 random bits per uniform, centred in their bin: (u + ½)·2⁻³² lies in [2⁻³³, 1 − 2⁻³³],
 // so the log in the normal's tails is always finite. The resolution (2.3e-10) is far below any
 // per-pulse probability; normals reach 6.8 σ at most, which matters only beyond ~1e11 draws.
+// One mapping for PulseRng::uniform() and the batched draws.
+inline double uniform_of_word(std::uint32_t u) { return (static_cast<double>(u) + 0.5) * 0x1p-32; }
+
 inline double PulseRng::uniform() {
     if (used_ == 4) {
         buf_ = philox4x32({static_cast<std::uint32_t>(pulse_),
@@ -80,7 +83,7 @@ inline double PulseRng::uniform() {
         used_ = 0;
     }
     const std::uint32_t u = buf_[static_cast<std::size_t>(used_++)];
-    return (static_cast<double>(u) + 0.5) * 0x1p-32;
+    return uniform_of_word(u);
 }
 
 // Inverse normal CDF (P. J. Acklam's rational approximation, relative error < 1.2e-9): 95 % of
@@ -122,9 +125,6 @@ inline double acklam_tail(double p) {
 inline double inverse_normal_cdf(double p) {
     return detail::acklam_is_tail(p) ? detail::acklam_tail(p) : detail::acklam_central(p);
 }
-
-// The uniform of one 32-bit word, as PulseRng::uniform() maps it.
-inline double uniform_of_word(std::uint32_t u) { return (static_cast<double>(u) + 0.5) * 0x1p-32; }
 
 inline double PulseRng::normal() { return inverse_normal_cdf(uniform()); }
 
