@@ -213,5 +213,33 @@ TEST(LasDiskFull, efbig_mid_stream_keeps_earlier_flushes_and_the_whole_part_of_t
                 static_cast<unsigned long long>(f.file_size()));
 }
 
+// The same disk limit when the records arrive encoded (write_encoded, as from the render
+// workers): chunks of 100 records; 13 fit, the 14th is cut after 78 whole records.
+TEST(LasDiskFull, efbig_in_an_encoded_chunk_keeps_the_whole_records_before_it) {
+    TempDir dir;
+    const std::string path = dir.file("full_encoded.las");
+    const auto pts = test::make_points(5000, 42);
+    const auto r = run_with_file_size_limit(50000, [&] {
+        LasWriter w(path, core::Georef(), {.point_format = 7});
+        EncodedRecords chunk;
+        for (std::size_t k = 0; k < pts.size(); k += 100) {
+            chunk.clear();
+            w.encode(std::span(pts).subspan(k, 100), chunk);
+            w.write_encoded(chunk);
+        }
+        w.close();
+    });
+    ASSERT_TRUE(WIFEXITED(r.status));
+    ASSERT_EQ(WEXITSTATUS(r.status), 0) << r.message;
+    EXPECT_NE(r.message.find("after 1378 points; file cut to 1378 whole records"),
+              std::string::npos)
+        << r.message;
+    const LasFile f = LasFile::read(path);
+    EXPECT_TRUE(f.validate().empty()) << ::testing::PrintToString(f.validate());
+    EXPECT_EQ(f.header().point_count, 1378u);
+    EXPECT_EQ(f.file_size(), 375u + 1378u * 36u);
+    expect_points_match(f, pts);
+}
+
 }  // namespace
 }  // namespace mirage::las

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <thread>
 
 #include "las_test_points.hpp"
 #include "mirage/core/error.hpp"
@@ -218,6 +219,71 @@ TEST(LasWriter, same_points_give_byte_identical_files) {
     // Creation date is the fixed option, not today's.
     EXPECT_EQ(a[90] | a[91] << 8, 1);
     EXPECT_EQ(a[92] | a[93] << 8, 2025);
+}
+
+// The render workers encode chunks in parallel (encode) and one thread writes them in order
+// (write_encoded), mixed with plain writes: the file must be the one write() alone makes, with
+// the same rejected and remapped counts.
+TEST(LasWriter, chunks_encoded_on_other_threads_give_the_file_write_gives) {
+    TempDir dir;
+    for (const int format : {1, 3, 6, 7}) {
+        auto pts = make_points(2000, 17, 5, 60);  // classes up to 60: formats 1/3 remap some
+        pts[10].x = 3.0e6;                        // not representable: rejected
+        pts[1500].z = std::nan("");
+        const core::Georef utm =
+            core::Georef::projected(32632, Eigen::Vector3d(500000, 4500000, 0));
+        const LasWriterOptions opt{.point_format = static_cast<std::uint8_t>(format),
+                                   .buffer_bytes = 4096};
+        const std::string plain = dir.file("plain.las"), mixed = dir.file("mixed.las");
+        std::uint64_t rejected = 0, remapped = 0;
+        {
+            LasWriter w(plain, utm, opt);
+            w.write(pts);
+            rejected = w.points_rejected();
+            remapped = w.classifications_remapped();
+        }
+        ASSERT_EQ(rejected, 2u);
+        if (format < 6) {
+            ASSERT_GT(remapped, 0u);
+        }
+        {
+            LasWriter w(mixed, utm, opt);
+            w.write(std::span(pts).first(300));  // buffered, must precede the chunks
+            std::vector<EncodedRecords> chunks(4);
+            std::vector<std::thread> threads;
+            for (std::size_t c = 0; c < chunks.size(); ++c)
+                threads.emplace_back([&, c] {
+                    const auto part = std::span(pts).subspan(300 + 400 * c, 400);
+                    w.encode(part.first(150), chunks[c]);  // two calls append
+                    w.encode(part.subspan(150), chunks[c]);
+                });
+            for (auto& t : threads) t.join();
+            for (const auto& chunk : chunks) w.write_encoded(chunk);
+            w.write(std::span(pts).subspan(1900));
+            EXPECT_EQ(w.points_rejected(), rejected);
+            EXPECT_EQ(w.classifications_remapped(), remapped);
+            EXPECT_EQ(w.points_written(), pts.size() - rejected);
+        }
+        EXPECT_EQ(test::file_bytes(plain), test::file_bytes(mixed)) << "format " << format;
+        const LasFile f = LasFile::read(mixed);
+        EXPECT_TRUE(f.validate().empty()) << ::testing::PrintToString(f.validate());
+        EXPECT_EQ(f.header().point_count, pts.size() - rejected);
+    }
+}
+
+TEST(LasWriter, encoded_records_of_another_format_are_refused) {
+    TempDir dir;
+    const auto pts = make_points(10, 3);
+    LasWriter w6(dir.file("a.las"), core::Georef(), {.point_format = 6});
+    LasWriter w7(dir.file("b.las"), core::Georef(), {.point_format = 7});
+    EncodedRecords rec;
+    w7.encode(pts, rec);
+    EXPECT_EQ(rec.stats.count, 10u);
+    EXPECT_EQ(rec.bytes.size(), 10u * 36u);
+    EXPECT_THROW(w6.write_encoded(rec), IoError);
+    rec.clear();
+    EXPECT_TRUE(rec.bytes.empty());
+    EXPECT_EQ(rec.stats.count, 0u);
 }
 
 TEST(LasWriter, points_that_do_not_fit_int32_are_rejected_and_counted) {

@@ -14,8 +14,33 @@
 namespace mirage::test {
 namespace {
 
+// LAS output, encoded by the writing thread (write) or, like hil's LasSink, by the workers.
+class LasOut : public render::PointSink {
+  public:
+    LasOut(las::LasWriter& w, bool on_workers) : w_(w), on_workers_(on_workers) {}
+    void write(std::span<const core::PointRecord> p) override { w_.write(p); }
+    std::unique_ptr<render::EncodedPoints> new_encoded() const override {
+        return on_workers_ ? std::make_unique<Chunk>() : nullptr;
+    }
+    void encode(std::span<const core::PointRecord> p, render::EncodedPoints& out) const override {
+        w_.encode(p, static_cast<Chunk&>(out).records);
+    }
+    void write_encoded(render::EncodedPoints& chunk) override {
+        w_.write_encoded(static_cast<Chunk&>(chunk).records);
+    }
+
+  private:
+    struct Chunk : render::EncodedPoints {
+        las::EncodedRecords records;
+        void clear() override { records.clear(); }
+    };
+    las::LasWriter& w_;
+    bool on_workers_;
+};
+
 std::string render_file(const TempDir& tmp, const std::string& name, int threads, std::size_t chunk,
-                        std::uint64_t seed, std::size_t window_chunks = 0) {
+                        std::uint64_t seed, std::size_t window_chunks = 0,
+                        bool encode_on_workers = false) {
     scene::Scene s = plane_scene(400.0, Eigen::Affine3d::Identity(), 0.3);
     Eigen::Affine3d wall = Eigen::Affine3d::Identity();
     wall.translate(Eigen::Vector3d(20, 0, 0));
@@ -42,11 +67,7 @@ std::string render_file(const TempDir& tmp, const std::string& name, int threads
          {{10, 2, 1.8}, core::quaternion_from_rpy(0.01, 0, 1.0)}}};
     const auto path = tmp.file(name);
     las::LasWriter w(path, s.georef);
-    struct Sink : render::PointSink {
-        las::LasWriter& w;
-        explicit Sink(las::LasWriter& x) : w(x) {}
-        void write(std::span<const core::PointRecord> p) override { w.write(p); }
-    } sink(w);
+    LasOut sink(w, encode_on_workers);
     render::render(s, r, sensor, core::Trajectory(samples), {}, env, opt, sink);
     w.close();
     std::ifstream f(path, std::ios::binary);
@@ -63,6 +84,9 @@ TEST(PipelineDeterminism, same_seed_gives_byte_identical_las_on_one_and_two_thre
     EXPECT_TRUE(one == two) << "1 vs 2 threads differ";
     EXPECT_TRUE(one == two_small) << "chunk size changes the output";
     EXPECT_FALSE(one == other) << "the seed has no effect";
+    // Records encoded on the workers (the LAS sink's default) make the same file.
+    const std::string encoded = render_file(tmp, "t2e.las", 2, 512, 5, 0, true);
+    EXPECT_TRUE(one == encoded) << "encoding on the workers changes the output";
 }
 
 // How far the workers may run ahead of the writer (emulate raises it for real-time output)
@@ -169,8 +193,9 @@ TEST(WindowRenderer, windows_of_any_size_give_render_s_points) {
         std::vector<core::PointRecord> pts;
         render::RenderStats st;
         for (std::uint64_t first = 0; first < total; first += window)
-            wr.render(traj, first, static_cast<std::size_t>(std::min<std::uint64_t>(window, total - first)),
-                      pts, st);
+            wr.render(traj, first,
+                      static_cast<std::size_t>(std::min<std::uint64_t>(window, total - first)), pts,
+                      st);
         ASSERT_EQ(pts.size(), sink.all.size()) << window;
         EXPECT_EQ(st.pulses, total);
         std::size_t diff = 0;

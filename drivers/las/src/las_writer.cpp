@@ -36,16 +36,7 @@ void put_rgb(std::uint8_t* at, const core::PointRecord& p) {
 constexpr double kOffsetGrid_m = 1000.0;
 constexpr double kScanAngleUnit_deg = 0.006;  // formats 6–10 (Table 13)
 
-struct Stats {
-    std::uint64_t count = 0;
-    std::array<std::uint64_t, 15> by_return{};
-    std::array<std::int32_t, 3> min{std::numeric_limits<std::int32_t>::max(),
-                                    std::numeric_limits<std::int32_t>::max(),
-                                    std::numeric_limits<std::int32_t>::max()};
-    std::array<std::int32_t, 3> max{std::numeric_limits<std::int32_t>::min(),
-                                    std::numeric_limits<std::int32_t>::min(),
-                                    std::numeric_limits<std::int32_t>::min()};
-};
+using Stats = RecordStats;
 
 void put_text(std::uint8_t* p, std::size_t n, const std::string& s) {
     std::memset(p, 0, n);
@@ -74,6 +65,15 @@ std::size_t pwrite_all(int fd, const std::uint8_t* data, std::size_t n, off_t po
 }
 
 }  // namespace
+
+void RecordStats::merge(const RecordStats& o) {
+    count += o.count;
+    for (std::size_t i = 0; i < by_return.size(); ++i) by_return[i] += o.by_return[i];
+    for (std::size_t a = 0; a < 3; ++a) {
+        min[a] = std::min(min[a], o.min[a]);
+        max[a] = std::max(max[a], o.max[a]);
+    }
+}
 
 struct LasWriter::Impl {
     struct Snapshot {
@@ -104,8 +104,10 @@ struct LasWriter::Impl {
 
     void open(const std::string& p, const core::Georef& georef, LasWriterOptions o);
     bool quantise(double local, int axis, std::int32_t& out) const noexcept;
-    bool encode(const core::PointRecord& p, std::uint8_t* r) noexcept;
+    bool encode(const core::PointRecord& p, std::uint8_t* r,
+                std::uint64_t& remapped_count) const noexcept;
     void accumulate(const std::uint8_t* records, std::size_t n) noexcept;
+    void append(const std::uint8_t* records, std::size_t bytes, const RecordStats* stats);
     void build_header(const Stats& s, std::uint8_t* out) const noexcept;
     void publish() noexcept;
     void flush();
@@ -200,7 +202,8 @@ bool LasWriter::Impl::quantise(double local, int axis, std::int32_t& out) const 
     return true;
 }
 
-bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexcept {
+bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r,
+                             std::uint64_t& remapped_count) const noexcept {
     std::int32_t x, y, z;
     if (!quantise(p.x, 0, x) || !quantise(p.y, 1, y) || !quantise(p.z, 2, z)) return false;
     put_i32(r + 0, x);
@@ -219,7 +222,7 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r) noexce
         std::uint8_t cls = p.classification;
         if (cls > 31) {  // 5-bit field; the upper bits are synthetic/key-point/withheld flags
             cls = 1;
-            ++remapped;
+            ++remapped_count;
         }
         r[15] = cls;
         r[16] = static_cast<std::uint8_t>(
@@ -289,19 +292,32 @@ void LasWriter::Impl::publish() noexcept {
     published.store(next, std::memory_order_release);
 }
 
-void LasWriter::Impl::flush() {
-    if (used == 0) return;
+// Writes whole records after those on disk and then the header that covers them. `stats`, when
+// given, are the records' own (computed by encode on another thread); after a short write the
+// statistics come from the bytes that reached the disk.
+void LasWriter::Impl::append(const std::uint8_t* records, std::size_t bytes,
+                             const RecordStats* stats) {
     const off_t end = static_cast<off_t>(data_offset + flushed.count * record_length);
     int err = 0;
-    const std::size_t done = pwrite_all(fd, buffer.data(), used, end, err);
-    accumulate(buffer.data(), done / record_length);
+    const std::size_t done = pwrite_all(fd, records, bytes, end, err);
+    if (stats && done == bytes) {
+        flushed.merge(*stats);
+    } else {
+        accumulate(records, done / record_length);
+    }
     if (err != 0) fail(err);
-    used = 0;
-    buffered_points = 0;
     publish();
     const auto& snap = snapshots[published.load(std::memory_order_relaxed)];
     pwrite_all(fd, snap.header.data(), snap.header.size(), 0, err);
     if (err != 0) fail(err);
+}
+
+void LasWriter::Impl::flush() {
+    if (used == 0) return;
+    const std::size_t n = used;
+    used = 0;
+    buffered_points = 0;
+    append(buffer.data(), n, nullptr);
 }
 
 // The whole records that reached the disk are already in `flushed`: cut the file after them,
@@ -356,13 +372,49 @@ void LasWriter::write(std::span<const core::PointRecord> points) {
     const std::size_t len = im.record_length;
     for (const core::PointRecord& p : points) {
         if (im.used + len > im.buffer.size()) im.flush();
-        if (im.encode(p, im.buffer.data() + im.used)) {
+        if (im.encode(p, im.buffer.data() + im.used, im.remapped)) {
             im.used += len;
             ++im.buffered_points;
         } else {
             ++im.rejected;
         }
     }
+}
+
+void LasWriter::encode(std::span<const core::PointRecord> points, EncodedRecords& out) const {
+    const Impl& im = *impl_;
+    const std::size_t len = im.record_length;
+    const std::size_t at = out.bytes.size();
+    out.bytes.resize(at + points.size() * len);
+    std::uint8_t* r = out.bytes.data() + at;
+    for (const core::PointRecord& p : points) {
+        if (!im.encode(p, r, out.remapped)) {
+            ++out.rejected;
+            continue;
+        }
+        RecordStats& s = out.stats;
+        for (int a = 0; a < 3; ++a) {
+            const std::int32_t v = get_i32(r + 4 * a);
+            s.min[a] = std::min(s.min[a], v);
+            s.max[a] = std::max(s.max[a], v);
+        }
+        ++s.by_return[(r[14] & im.return_mask) - 1u];
+        ++s.count;
+        r += len;
+    }
+    out.bytes.resize(static_cast<std::size_t>(r - out.bytes.data()));
+}
+
+void LasWriter::write_encoded(const EncodedRecords& records) {
+    Impl& im = *impl_;
+    if (im.fd < 0) throw IoError(im.prefix() + "write after close or after a write error");
+    if (records.bytes.size() != records.stats.count * im.record_length)
+        throw IoError(im.prefix() + "encoded records of another length");  // another writer's
+    im.rejected += records.rejected;
+    im.remapped += records.remapped;
+    if (records.stats.count == 0) return;
+    im.flush();  // what write() buffered comes first
+    im.append(records.bytes.data(), records.bytes.size(), &records.stats);
 }
 
 void LasWriter::close() {

@@ -2,8 +2,10 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "mirage/core/georef.hpp"
 #include "mirage/core/point.hpp"
@@ -20,6 +22,33 @@ struct LasWriterOptions {
     std::uint16_t creation_day = 1;  // day of year, 1-based
     std::uint16_t creation_year = 2025;
     std::size_t buffer_bytes = 1 << 20;  // pwrite(2) granularity; rounded down to whole records
+};
+
+// What records add to the header: their count, counts by return and bounds (stored integers).
+struct RecordStats {
+    std::uint64_t count = 0;
+    std::array<std::uint64_t, 15> by_return{};
+    std::array<std::int32_t, 3> min{std::numeric_limits<std::int32_t>::max(),
+                                    std::numeric_limits<std::int32_t>::max(),
+                                    std::numeric_limits<std::int32_t>::max()};
+    std::array<std::int32_t, 3> max{std::numeric_limits<std::int32_t>::min(),
+                                    std::numeric_limits<std::int32_t>::min(),
+                                    std::numeric_limits<std::int32_t>::min()};
+    void merge(const RecordStats& o);
+};
+
+// Point records encoded ahead of writing (LasWriter::encode), with their statistics.
+struct EncodedRecords {
+    std::vector<std::uint8_t> bytes;  // whole records, in point order
+    RecordStats stats;                // of the records in `bytes`
+    std::uint64_t rejected = 0;       // points not encodable (see LasWriter::points_rejected)
+    std::uint64_t remapped = 0;       // formats 1/3: class > 31 written as 1
+    // Empties it and keeps the capacity (a renderer reuses one per chunk).
+    void clear() {
+        bytes.clear();
+        stats = {};
+        rejected = remapped = 0;
+    }
 };
 
 // LAS 1.4 writer (hand-written: Debian 12 packages no LAS library). Points arrive in the
@@ -46,6 +75,12 @@ class LasWriter {
     LasWriter& operator=(const LasWriter&) = delete;
 
     void write(std::span<const core::PointRecord> points);
+    // Encodes points exactly as write() would and appends them to `out`, without writing.
+    // Thread-safe (reads only the writer's fixed settings): render workers encode their points
+    // in parallel, while they are still in cache, and the writing thread appends them in order
+    // with write_encoded(). The two kinds of write may be mixed; order is kept.
+    void encode(std::span<const core::PointRecord> points, EncodedRecords& out) const;
+    void write_encoded(const EncodedRecords& records);
     void close();
     // Points accepted (flushed or buffered). After a write error: the whole records on disk.
     std::uint64_t points_written() const;

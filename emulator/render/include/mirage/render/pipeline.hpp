@@ -17,6 +17,14 @@
 
 namespace mirage::render {
 
+// A chunk of points a sink has encoded on a render worker: the sink's own type, see
+// PointSink::new_encoded.
+class EncodedPoints {
+  public:
+    virtual ~EncodedPoints() = default;
+    virtual void clear() = 0;  // empty, keeping capacity: reused for later chunks
+};
+
 // Receives points in pulse order (deterministic whatever the thread count), one chunk at a time,
 // from a single thread at a time.
 class PointSink {
@@ -26,6 +34,17 @@ class PointSink {
     // Called after each chunk's write: every pulse before `next_pulse` has been delivered. Packet
     // encoders need it because pulses without returns produce no points but still fill packets.
     virtual void pulses_done(std::uint64_t next_pulse) { (void)next_pulse; }
+
+    // Optional encoding on the render workers. A sink that returns a buffer here has each trace
+    // batch's points passed to encode() on the worker that made them, while they are in cache
+    // and in parallel, and then receives whole chunks, in order, through write_encoded() instead
+    // of write(). new_encoded() and encode() are called from several threads at once.
+    virtual std::unique_ptr<EncodedPoints> new_encoded() const { return nullptr; }
+    virtual void encode(std::span<const core::PointRecord> points, EncodedPoints& out) const {
+        (void)points;
+        (void)out;
+    }
+    virtual void write_encoded(EncodedPoints& chunk) { (void)chunk; }
 };
 
 struct RenderOptions {
@@ -56,7 +75,7 @@ struct RenderStats {
     double cpu_rays_s = 0;    // pulse specs, poses, ray generation
     double cpu_trace_s = 0;   // Renderer::intersect
     double cpu_shade_s = 0;   // physics, noise, point records
-    double cpu_output_s = 0;  // the sink (e.g. LAS encoding), on the writer thread
+    double cpu_output_s = 0;  // the sink: encoding (on the workers when it can) and writing
 };
 
 // Progress: pulses done so far (called from the writer thread, rate-limited by the caller).
