@@ -267,7 +267,6 @@ struct ChunkResult {
 struct PendingReturn {
     double range_m;     // power-weighted mean range
     double power_w;     // summed received power
-    double tau1;        // one-way transmission at range_m (for the background)
     std::uint32_t i;    // pulse within the batch
     std::uint32_t hit;  // index in the batch's hits of the strongest sub-ray: material, normal
     std::uint32_t k;    // index among its pulse's reported returns, nearest first
@@ -286,6 +285,7 @@ struct ShadeScratch {
     std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see PulseShader::ray_terms
     std::vector<double> n_laser;    // per pending return: photo-electrons
     std::vector<std::uint16_t> intensity;  // and their calibrated intensity
+    std::vector<double> tau1;  // and one-way transmission at their range (for the background)
 };
 
 // |cos θ| of a ray on its hit's normal, at most 1.
@@ -357,69 +357,78 @@ class PulseShader {
         for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
         ray_terms(g, hits, scratch);
         const double* terms = scratch.ray_terms.data();
-        for (std::size_t i = 0; i < n; ++i) {
-            const Hit* h = &hits[g.first_ray[i]];
-            const Ray* ray = &g.rays[g.first_ray[i]];
-            const double* term = terms + g.first_ray[i];
-            std::size_t nc = 0;
-            bool any_close = false;
-            // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
-            // into several returns would sum them): range span, power-weighted range, power, and
-            // the strongest sub-ray (the first of equals).
-            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-            double sum_rp = 0, sum_p = 0, best_p = -1;
-            std::uint32_t best_sub = 0;
-            for (std::size_t s = 0; s < s_count; ++s) {
-                if (!h[s].hit()) continue;
-                const double range = h[s].t;
-                if (range < rx.min_range_m) {
-                    any_close = true;
+        if (s_count == 1) {
+            single_returns(g, hits, terms, weighted_k[0], scratch, out.stats);
+        } else {
+            for (std::size_t i = 0; i < n; ++i) {
+                const Hit* h = &hits[g.first_ray[i]];
+                const Ray* ray = &g.rays[g.first_ray[i]];
+                const double* term = terms + g.first_ray[i];
+                std::size_t nc = 0;
+                bool any_close = false;
+                // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
+                // into several returns would sum them): range span, power-weighted range, power,
+                // and the strongest sub-ray (the first of equals).
+                double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+                double sum_rp = 0, sum_p = 0, best_p = -1;
+                std::uint32_t best_sub = 0;
+                for (std::size_t s = 0; s < s_count; ++s) {
+                    if (!h[s].hit()) continue;
+                    const double range = h[s].t;
+                    if (range < rx.min_range_m) {
+                        any_close = true;
+                        continue;
+                    }
+                    if (range > rx.max_range_m) continue;
+                    double t = term[s];
+                    if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
+                        const double cos_inc = incidence(ray[s], h[s]);
+                        t = -t * physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc);
+                    }
+                    const double p = weighted_k[s] * t;
+                    buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
+                    lo = std::min(lo, range);
+                    hi = std::max(hi, range);
+                    sum_rp += range * p;
+                    sum_p += p;
+                    if (p > best_p) {
+                        best_p = p;
+                        best_sub = static_cast<std::uint32_t>(s);
+                    }
+                }
+                out.stats.pulses++;
+                if (nc == 0) {
+                    if (any_close)
+                        out.stats.too_close++;
+                    else
+                        out.stats.misses++;
                     continue;
                 }
-                if (range > rx.max_range_m) continue;
-                double t = term[s];
-                if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
-                    const double cos_inc = incidence(ray[s], h[s]);
-                    t = -t * physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc);
-                }
-                const double p = weighted_k[s] * t;
-                buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
-                lo = std::min(lo, range);
-                hi = std::max(hi, range);
-                sum_rp += range * p;
-                sum_p += p;
-                if (p > best_p) {
-                    best_p = p;
-                    best_sub = static_cast<std::uint32_t>(s);
-                }
-            }
-            out.stats.pulses++;
-            if (nc == 0) {
-                if (any_close)
-                    out.stats.too_close++;
+                // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can
+                // split them and one return takes them all, without sorting.
+                const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
+                const auto ii = static_cast<std::uint32_t>(i);
+                if (hi - lo <= separation_m_)
+                    add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), scratch);
                 else
-                    out.stats.misses++;
-                continue;
+                    split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), scratch);
             }
-            // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can split
-            // them and one return takes them all, without sorting.
-            const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
-            const auto ii = static_cast<std::uint32_t>(i);
-            if (hi - lo <= separation_m_)
-                add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), alpha, scratch);
-            else
-                split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), alpha,
-                              scratch);
         }
         out.stats.rays += hits.size();
         draw(first, scratch);
-        // Photo-electrons and intensity of every pending return, in loops that vectorise (a
-        // logarithm per point was a library call); voids among them are computed and unused.
+        // Photo-electrons, intensity and (for the background) one-way transmission of every
+        // pending return, in loops that vectorise (a logarithm or exponential per point was a
+        // library call); voids among them are computed and unused.
         const std::size_t np = scratch.pending.size();
         scratch.n_laser.resize(np);
         scratch.intensity.resize(np);
         for (std::size_t j = 0; j < np; ++j)
             scratch.n_laser[j] = radiometry_.laser_electrons(scratch.pending[j].power_w);
+        if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+            scratch.tau1.resize(np);
+            for (std::size_t j = 0; j < np; ++j)
+                scratch.tau1[j] = core::exp_poly(-alpha * scratch.pending[j].range_m);
+        }
         opt_.intensity.to_u16_many(scratch.n_laser.data(), np, scratch.intensity.data());
         emit_points(first, g, hits, scratch, out);
     }
@@ -435,7 +444,7 @@ class PulseShader {
     // Sub-ray hits spread over more than c·τ/2: sorted by range and split where the gap exceeds
     // it (two surfaces closer than that blend into one echo); then the reported ones are emitted.
     void split_returns(std::uint32_t i, std::uint32_t first_hit, std::span<Contribution> contrib,
-                       double alpha, ShadeScratch& scratch) const {
+                       ShadeScratch& scratch) const {
         // Insertion sort by range: a handful of sub-rays.
         for (std::size_t a = 1; a < contrib.size(); ++a) {
             const Contribution c = contrib[a];
@@ -483,18 +492,51 @@ class PulseShader {
             for (int k = 0; k < count && kept < std::size_t(max_returns); ++k)
                 chosen[kept++] = to_return(sums[k]);
         }
-        add_returns(i, first_hit, std::span<const Return>(chosen, kept), alpha, scratch);
+        add_returns(i, first_hit, std::span<const Return>(chosen, kept), scratch);
+    }
+
+    // One sub-ray per pulse: its hit, if within the receiver's ranges, is the pulse's only
+    // return. Hits and misses alternate unpredictably, so this runs without branches: every pulse
+    // writes a candidate and only one with a return advances the count.
+    void single_returns(const ChunkGeometry& g, const std::vector<Hit>& hits, const double* terms,
+                        double k, ShadeScratch& scratch, RenderStats& stats) const {
+        const std::size_t n = g.specs.size();
+        const double lo = sensor_.receiver.min_range_m, hi = sensor_.receiver.max_range_m;
+        scratch.pending.resize(n);
+        PendingReturn* out = scratch.pending.data();
+        std::size_t np = 0;
+        std::uint64_t close = 0, missed = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint32_t r = g.first_ray[i];
+            const double range = hits[r].t;  // +inf on a miss
+            const bool near = range < lo;
+            const bool in = !near & (range <= hi);
+            out[np] = {range, k * terms[r], static_cast<std::uint32_t>(i), r, 0};
+            np += in;
+            close += near;
+            missed += !near & !in;
+        }
+        scratch.pending.resize(np);
+        for (PendingReturn& p : scratch.pending) {
+            if (p.power_w < 0.0) {  // a specular lobe (see ray_terms): its BRDF per hit
+                const Hit& h = hits[p.hit];
+                const double t =
+                    -terms[p.hit] * physics::monostatic_brdf(scene_.materials[h.material],
+                                                             incidence(g.rays[p.hit], h));
+                p.power_w = k * t;
+            }
+        }
+        stats.pulses += n;
+        stats.too_close += close;
+        stats.misses += missed;
     }
 
     // Queues a pulse's reported returns (nearest first) for drawing and emission.
     void add_returns(std::uint32_t i, std::uint32_t first_hit, std::span<const Return> returns,
-                     double alpha, ShadeScratch& scratch) const {
-        const bool background = sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0;
+                     ShadeScratch& scratch) const {
         std::uint32_t k = 0;
         for (const Return& r : returns)
-            scratch.pending.push_back({r.range_m, r.power_w,
-                                       background ? core::exp_poly(-alpha * r.range_m) : 1.0, i,
-                                       first_hit + r.best_sub, k++});
+            scratch.pending.push_back({r.range_m, r.power_w, i, first_hit + r.best_sub, k++});
     }
 
     // Per ray of the batch, brdf·cos θ·τ²/R²: see ray_terms() above.
@@ -561,7 +603,7 @@ class PulseShader {
                         sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
                                 : 0.0;
                     n_other = radiometry_.background_electrons_tau(m.reflectance / std::numbers::pi,
-                                                                   cos_sun, r.tau1);
+                                                                   cos_sun, scratch.tau1[j]);
                 }
                 if (radiometry_.is_void(n_laser, n_other, z_void ? z_void[j] : 0.0)) {
                     any_void = true;
