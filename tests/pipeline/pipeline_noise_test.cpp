@@ -67,6 +67,31 @@ TEST(PipelineNoise, range_noise_and_jitter_sigmas_within_one_percent) {
     EXPECT_NEAR(range.mean(), 0.0, 5 * 0.05 / 1000.0);  // 5 standard errors
 }
 
+// Jitter angles beyond 1e-2 rad leave the tangent series the batched shading uses and take the
+// exact tangent: with σ = 0.02 rad most draws do. The in-plane angle is atan(tan(σ·z)) = σ·z
+// exactly, the other within (σ·z)²/2 of it, so both spreads must still be σ.
+TEST(PipelineNoise, large_jitter_angles_keep_their_sigma) {
+    const double d = 50.0;
+    const double sigma = 0.02;
+    const auto scene = plane_scene(400.0, facing_plane(d));
+    render::EmbreeRenderer r(scene);
+    auto sensor = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
+    sensor.noise.jitter_sigma_rad = sigma;
+    Moments ax, ay;
+    CallbackSink sink([&](const core::PointRecord& p) {
+        ax.add(std::atan2(p.y, p.x));
+        ay.add(std::atan2(p.z, std::hypot(p.x, p.y)));
+    });
+    render::RenderOptions opt = noisy();
+    opt.duration = core::Nanos(200'000 * 1000);
+    const auto stats =
+        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, opt, sink);
+    ASSERT_EQ(stats.points, 200'000u);
+    std::printf("jitter sigma 0.02 rad: measured %.6f / %.6f rad\n", ax.sigma(), ay.sigma());
+    EXPECT_NEAR(ax.sigma() / sigma, 1.0, 0.01);
+    EXPECT_NEAR(ay.sigma() / sigma, 1.0, 0.01);
+}
+
 TEST(PipelineNoise, void_fraction_matches_closed_form_prediction) {
     const double d = 80.0;
     const auto scene = plane_scene(400.0, facing_plane(d), 0.2);

@@ -285,7 +285,11 @@ struct ShadeScratch {
     std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see PulseShader::ray_terms
     std::vector<double> n_laser;    // per pending return: photo-electrons
     std::vector<std::uint16_t> intensity;  // and their calibrated intensity
-    std::vector<double> tau1;  // and one-way transmission at their range (for the background)
+    std::vector<double> tau1;   // and one-way transmission at their range (for the background)
+    std::vector<double> range;  // and measured range (noise, resolution)
+    std::vector<std::int64_t> steps;         // (that range in resolution steps)
+    std::array<std::vector<double>, 3> dir;  // and beam direction, turned by the jitter
+    std::array<std::vector<double>, 3> at;   // and point position (local frame)
 };
 
 // |cos θ| of a ray on its hit's normal, at most 1.
@@ -310,6 +314,57 @@ void ray_terms(const Ray* __restrict ray, const Hit* __restrict h, const double*
         const double v = f * cos_inc * core::exp_poly(-alpha2 * range) / (range * range);
         const double lit = cos_inc > 0.0 ? v : 0.0;  // two selects: GCC will not vectorise a
         out[r] = in_range ? lit : 0.0;               // select on three combined conditions
+    }
+}
+
+// tan(x) by its series: exact to double precision for |x| ≤ 1e-2 (see small_tan).
+inline double series_tan(double x) {
+    const double x2 = x * x;
+    return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
+}
+
+// range[k] += sigma·z[k] (z may be null: no noise), then the nearest multiple of `resolution`
+// (0: none) as floor(range/resolution + ½). Branch-free so it vectorises: floor is a conversion
+// to int64 (GCC vectorises neither std::floor nor, in the same loop, the conversion back) of the
+// value clamped to [0, 1e15], so a range pushed below zero by the noise reads 0. `steps` is
+// scratch for n values.
+void noisy_ranges(double* __restrict range, const double* __restrict z, double sigma,
+                  double resolution, std::size_t n, std::int64_t* __restrict steps) {
+    if (z)
+        for (std::size_t k = 0; k < n; ++k) range[k] += sigma * z[k];
+    if (!(resolution > 0.0)) return;
+    const double inv = 1.0 / resolution;
+    for (std::size_t k = 0; k < n; ++k) {
+        double y = range[k] * inv + 0.5;
+        y = y >= 0.0 ? y : 0.0;  // NaN too
+        y = y <= 1e15 ? y : 1e15;
+        steps[k] = static_cast<std::int64_t>(y);
+    }
+    for (std::size_t k = 0; k < n; ++k) range[k] = static_cast<double>(steps[k]) * resolution;
+}
+
+// Platform jitter (seed 001 eq. 15) of n unit directions: each is turned by the angles σ·zx and
+// σ·zy about two axes orthogonal to it (orthonormal_basis, both of its cases computed and one
+// selected), so the lateral error grows with range. Branch-free so it vectorises; the tangent is
+// the series, exact for angles up to 1e-2 rad: jitter_fixup() redoes larger ones.
+void jitter_directions(double* __restrict dx, double* __restrict dy, double* __restrict dz,
+                       const double* __restrict zx, const double* __restrict zy, double sigma,
+                       std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+        const double x = dx[k], y = dy[k], z = dz[k];
+        const bool polar = std::abs(z) >= 0.9;
+        const double ia = 1.0 / std::sqrt(x * x + y * y);  // unused (maybe inf) when polar
+        const double ib = 1.0 / std::sqrt(y * y + z * z);
+        const double ux = polar ? 0.0 : y * ia;
+        const double uy = polar ? z * ib : -x * ia;
+        const double uz = polar ? -y * ib : 0.0;
+        const double vx = y * uz - z * uy, vy = z * ux - x * uz, vz = x * uy - y * ux;
+        const double tx = series_tan(sigma * zx[k]), ty = series_tan(sigma * zy[k]);
+        // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
+        const double inv = 1.0 / std::sqrt(1.0 + tx * tx + ty * ty);
+        dx[k] = (x + tx * ux + ty * vx) * inv;
+        dy[k] = (y + tx * uy + ty * vy) * inv;
+        dz[k] = (z + tx * uz + ty * vz) * inv;
     }
 }
 
@@ -430,6 +485,7 @@ class PulseShader {
                 scratch.tau1[j] = core::exp_poly(-alpha * scratch.pending[j].range_m);
         }
         opt_.intensity.to_u16_many(scratch.n_laser.data(), np, scratch.intensity.data());
+        positions(g, scratch);
         emit_points(first, g, hits, scratch, out);
     }
 
@@ -576,17 +632,58 @@ class PulseShader {
         }
     }
 
-    // Detection, noise and the point records of the pending returns, pulse by pulse.
-    void emit_points(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
-                     const ShadeScratch& scratch, ChunkResult& out) const {
-        const auto& rx = sensor_.receiver;
+    // Measured range and point position of every pending return (voids included, unused).
+    void positions(const ChunkGeometry& g, ShadeScratch& scratch) const {
+        const std::size_t np = scratch.pending.size();
+        scratch.range.resize(np);
+        scratch.steps.resize(np);
+        for (int a = 0; a < 3; ++a) {
+            scratch.dir[a].resize(np);
+            scratch.at[a].resize(np);
+        }
+        // Each return's pulse direction (and below origin), gathered so the loops read arrays.
+        for (std::size_t j = 0; j < np; ++j) {
+            const std::uint32_t i = scratch.pending[j].i;
+            scratch.range[j] = scratch.pending[j].range_m;
+            for (int a = 0; a < 3; ++a) scratch.dir[a][j] = g.direction[a][i];
+        }
         const double jitter = opt_.noise ? sensor_.noise.jitter_sigma_rad : 0.0;
         const double range_sigma = opt_.noise ? sensor_.noise.range_sigma_m : 0.0;
+        noisy_ranges(scratch.range.data(), range_sigma > 0.0 ? scratch.normals[1].data() : nullptr,
+                     range_sigma, inv_resolution_ > 0.0 ? sensor_.receiver.range_resolution_m : 0.0,
+                     np, scratch.steps.data());
+        if (jitter > 0.0) {
+            const double* zx = scratch.normals[2].data();
+            const double* zy = scratch.normals[3].data();
+            jitter_directions(scratch.dir[0].data(), scratch.dir[1].data(), scratch.dir[2].data(),
+                              zx, zy, jitter, np);
+            // Angles beyond the series' range (σ of milliradians and more): the exact tangent.
+            for (std::size_t j = 0; j < np; ++j) {
+                if (std::abs(jitter * zx[j]) <= 1e-2 && std::abs(jitter * zy[j]) <= 1e-2) continue;
+                const Eigen::Vector3d d = g.direction_of(scratch.pending[j].i);
+                Eigen::Vector3d u, v;
+                orthonormal_basis(d, u, v);
+                const double tx = std::tan(jitter * zx[j]), ty = std::tan(jitter * zy[j]);
+                const Eigen::Vector3d e =
+                    (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
+                for (int a = 0; a < 3; ++a) scratch.dir[a][j] = e[a];
+            }
+        }
+        for (std::size_t j = 0; j < np; ++j)
+            for (int a = 0; a < 3; ++a) scratch.at[a][j] = g.origin[a][scratch.pending[j].i];
+        for (int a = 0; a < 3; ++a) {
+            const double* __restrict d = scratch.dir[a].data();
+            const double* __restrict range = scratch.range.data();
+            double* __restrict at = scratch.at[a].data();
+            for (std::size_t j = 0; j < np; ++j) at[j] += range[j] * d[j];
+        }
+    }
+
+    // Detection and the point records of the pending returns, pulse by pulse.
+    void emit_points(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
+                     const ShadeScratch& scratch, ChunkResult& out) const {
         const std::size_t np = scratch.pending.size();
         const double* z_void = opt_.noise ? scratch.normals[0].data() : nullptr;
-        const double* z_range = range_sigma > 0.0 ? scratch.normals[1].data() : nullptr;
-        const double* z_jx = jitter > 0.0 ? scratch.normals[2].data() : nullptr;
-        const double* z_jy = jitter > 0.0 ? scratch.normals[3].data() : nullptr;
         for (std::size_t j = 0; j < np;) {
             const std::uint32_t i = scratch.pending[j].i;
             const sensor::PulseSpec& spec = g.specs[i];
@@ -609,30 +706,13 @@ class PulseShader {
                     any_void = true;
                     continue;
                 }
-                double range = r.range_m;
-                if (z_range) range += range_sigma * z_range[j];
-                // Nearest multiple of the resolution (ranges are positive: floor(x + ½) is round).
-                if (inv_resolution_ > 0.0)
-                    range = std::floor(range * inv_resolution_ + 0.5) * rx.range_resolution_m;
-                Eigen::Vector3d d = g.direction_of(i);
-                if (z_jx) {
-                    // Platform jitter (seed 001 eq. 15): an angle about two axes orthogonal to
-                    // the beam, so the lateral error grows with range.
-                    Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
-                    orthonormal_basis(d, u, v);
-                    const double tx = small_tan(jitter * z_jx[j]);
-                    const double ty = small_tan(jitter * z_jy[j]);
-                    // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
-                    d = (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
-                }
-                const Eigen::Vector3d p = g.origin_of(i) + range * d;
                 PointRecord& pt = out.points.emplace_back();  // filled in place, no temporary
-                pt.x = p.x();
-                pt.y = p.y();
-                pt.z = p.z();
+                pt.x = scratch.at[0][j];
+                pt.y = scratch.at[1][j];
+                pt.z = scratch.at[2][j];
                 pt.t = opt_.start + core::Nanos(spec.t_ns);
                 pt.pulse = first + i;
-                pt.range_m = static_cast<float>(range);
+                pt.range_m = static_cast<float>(scratch.range[j]);
                 pt.scan_angle_deg = spec.scan_angle_deg;
                 pt.azimuth_deg = spec.azimuth_deg;
                 pt.n_laser = n_laser;
