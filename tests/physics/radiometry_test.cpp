@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
+#include <vector>
 
 #include "mirage/core/error.hpp"
 
@@ -272,6 +274,47 @@ TEST(Radiometry, more_background_gives_larger_delta_n_and_more_voids) {
     EXPECT_LT(p_low, p_mid);
     EXPECT_LT(p_mid, 1e-2);
     EXPECT_EQ(r.void_probability(120.0, 1e5), 1.0);
+}
+
+// The pipeline's batched forms must give exactly the scalar ones, edge values included: sun up and
+// down, path radiance, cos θ₂ ≤ 0 / > 1 / NaN, N_laser negative or NaN, γ ≤ 0, noise on and off.
+TEST(Radiometry, batched_background_and_voids_equal_the_scalar_forms) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> cos_sun{1.0, 0.5, 0.0, -0.3, 1.2, nan, 0.01, 0.9};
+    const std::vector<double> brdf{0.1, 0.3, 0.2, 0.05, 0.15, 0.2, 0.0, 32.0};
+    const std::vector<double> tau{1.0, 0.9, 0.5, 0.99, 0.7, 0.8, 0.6, 0.95};
+    const std::vector<double> n_laser{400.0, 120.0, 0.0, -5.0, nan, 1e6, 3.0, 50.0};
+    const std::vector<double> z{0.0, 1.5, -2.0, 0.3, 4.0, -0.7, 6.0, -6.0};
+    const std::size_t n = cos_sun.size();
+    std::size_t voids_seen = 0;
+    for (double elevation : {0.6, -0.2}) {
+        for (double path : {0.0, 40.0}) {
+            for (double gamma : {1.0, 3.0, 0.0}) {
+                mp::Environment env;
+                env.sun.elevation_rad = elevation;
+                env.sun.irradiance_w_m2_um = 700.0;
+                env.path_radiance_w_m2_sr_um = path;
+                ReceiverParams rx = test_receiver(1e-7);
+                rx.noise_irradiance_sigma = 1e-3;
+                rx.threshold_gamma = gamma;
+                const mp::Radiometry r(test_beam(), rx, env);
+                std::vector<double> other(n), voids(n), quiet(n);
+                r.background_electrons_many(brdf.data(), cos_sun.data(), tau.data(), n,
+                                            other.data());
+                r.voids_many(n_laser.data(), other.data(), z.data(), n, voids.data());
+                r.voids_many(n_laser.data(), other.data(), nullptr, n, quiet.data());
+                for (std::size_t k = 0; k < n; ++k) {
+                    EXPECT_EQ(other[k], r.background_electrons_tau(brdf[k], cos_sun[k], tau[k]))
+                        << k;
+                    EXPECT_EQ(voids[k], r.is_void(n_laser[k], other[k], z[k]) ? 1.0 : 0.0) << k;
+                    EXPECT_EQ(quiet[k], r.is_void(n_laser[k], other[k], 0.0) ? 1.0 : 0.0) << k;
+                    voids_seen += voids[k] != 0.0;
+                }
+            }
+        }
+    }
+    EXPECT_GT(voids_seen, 12u);  // the cases exercise both outcomes
+    EXPECT_LT(voids_seen, 12u * n);
 }
 
 TEST(Radiometry, rejects_invalid_parameters_naming_the_field) {

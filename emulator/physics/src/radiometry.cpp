@@ -99,4 +99,35 @@ double Radiometry::closed_form_lambertian_w(double range_m, double reflectance,
            fill;
 }
 
+void Radiometry::background_electrons_many(const double* __restrict brdf_diffuse,
+                                           const double* __restrict cos_sun,
+                                           const double* __restrict tau, std::size_t n,
+                                           double* __restrict out) const {
+    const double path = env_.path_radiance_w_m2_sr_um;
+    const double sun = env_.sun.up() ? env_.sun.irradiance_w_m2_um : 0.0;  // 0: no sun term
+    const double k = background_e_per_w_;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double c = cos_sun[i];
+        const double lit = brdf_diffuse[i] * sun * std::min(c, 1.0) * tau[i];
+        out[i] = (path + (c > 0.0 ? lit : 0.0)) * k;
+    }
+}
+
+void Radiometry::voids_many(const double* __restrict n_laser, const double* __restrict n_other,
+                            const double* __restrict z, std::size_t n,
+                            double* __restrict voids) const {
+    // As is_void: N_laser < γ·ΔN squared; N_laser < 0 or NaN is a void, γ ≤ 0 voids nothing else.
+    const double g = rx_.threshold_gamma;
+    const double g2 = g > 0.0 ? g * g : 0.0;
+    const double a = noise_floor_e_;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double nl = n_laser[i];
+        const double floor = z ? a * z[i] : 0.0;
+        const double rhs = g2 * (floor * floor + nl + std::max(n_other[i], 0.0));
+        const bool dark = !(nl >= 0.0);
+        const bool below = nl * nl < rhs;
+        voids[i] = (dark | below) ? 1.0 : 0.0;
+    }
+}
+
 }  // namespace mirage::physics

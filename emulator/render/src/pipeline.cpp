@@ -285,8 +285,12 @@ struct ShadeScratch {
     std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see PulseShader::ray_terms
     std::vector<double> n_laser;    // per pending return: photo-electrons
     std::vector<std::uint16_t> intensity;  // and their calibrated intensity
-    std::vector<double> tau1;   // and one-way transmission at their range (for the background)
-    std::vector<double> range;  // and measured range (noise, resolution)
+    std::vector<double> tau1;     // and one-way transmission at their range (for the background)
+    std::vector<double> cos_sun;  // and cos θ₂ of the sun on their surface
+    std::vector<double> diffuse;  // and that surface's ρ_d/π
+    std::vector<double> n_other;  // and background photo-electrons
+    std::vector<double> voids;    // and 1 for a void (N_laser < γ·ΔN), else 0
+    std::vector<double> range;    // and measured range (noise, resolution)
     std::vector<std::int64_t> steps;         // (that range in resolution steps)
     std::array<std::vector<double>, 3> dir;  // and beam direction, turned by the jitter
     std::array<std::vector<double>, 3> at;   // and point position (local frame)
@@ -393,6 +397,7 @@ class PulseShader {
             double f = m.reflectance / std::numbers::pi;
             if (m.retroreflective) f += m.retro_gain;
             brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
+            diffuse_brdf_.push_back(m.reflectance / std::numbers::pi);
         }
         if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     }
@@ -485,6 +490,7 @@ class PulseShader {
                 scratch.tau1[j] = core::exp_poly(-alpha * scratch.pending[j].range_m);
         }
         opt_.intensity.to_u16_many(scratch.n_laser.data(), np, scratch.intensity.data());
+        detect(hits, scratch);
         positions(g, scratch);
         emit_points(first, g, hits, scratch, out);
     }
@@ -632,6 +638,28 @@ class PulseShader {
         }
     }
 
+    // Background photo-electrons and the void test (eqs. 6–13) of every pending return, batched.
+    void detect(const std::vector<Hit>& hits, ShadeScratch& scratch) const {
+        const std::size_t np = scratch.pending.size();
+        scratch.n_other.assign(np, 0.0);
+        scratch.voids.resize(np);
+        if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+            scratch.cos_sun.resize(np);
+            scratch.diffuse.resize(np);
+            for (std::size_t j = 0; j < np; ++j) {
+                const Hit& h = hits[scratch.pending[j].hit];
+                scratch.cos_sun[j] =
+                    sun_up_ ? h.nx * to_sun_.x() + h.ny * to_sun_.y() + h.nz * to_sun_.z() : 0.0;
+                scratch.diffuse[j] = diffuse_brdf_[h.material];
+            }
+            radiometry_.background_electrons_many(scratch.diffuse.data(), scratch.cos_sun.data(),
+                                                  scratch.tau1.data(), np, scratch.n_other.data());
+        }
+        radiometry_.voids_many(scratch.n_laser.data(), scratch.n_other.data(),
+                               opt_.noise ? scratch.normals[0].data() : nullptr, np,
+                               scratch.voids.data());
+    }
+
     // Measured range and point position of every pending return (voids included, unused).
     void positions(const ChunkGeometry& g, ShadeScratch& scratch) const {
         const std::size_t np = scratch.pending.size();
@@ -683,7 +711,6 @@ class PulseShader {
     void emit_points(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
                      const ShadeScratch& scratch, ChunkResult& out) const {
         const std::size_t np = scratch.pending.size();
-        const double* z_void = opt_.noise ? scratch.normals[0].data() : nullptr;
         for (std::size_t j = 0; j < np;) {
             const std::uint32_t i = scratch.pending[j].i;
             const sensor::PulseSpec& spec = g.specs[i];
@@ -694,15 +721,7 @@ class PulseShader {
                 const Hit& hit = hits[r.hit];
                 const scene::Material& m = scene_.materials[hit.material];
                 const double n_laser = scratch.n_laser[j];
-                double n_other = 0.0;
-                if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
-                    const double cos_sun =
-                        sun_up_ ? hit.nx * to_sun_.x() + hit.ny * to_sun_.y() + hit.nz * to_sun_.z()
-                                : 0.0;
-                    n_other = radiometry_.background_electrons_tau(m.reflectance / std::numbers::pi,
-                                                                   cos_sun, scratch.tau1[j]);
-                }
-                if (radiometry_.is_void(n_laser, n_other, z_void ? z_void[j] : 0.0)) {
+                if (scratch.voids[j] != 0.0) {
                     any_void = true;
                     continue;
                 }
@@ -747,6 +766,7 @@ class PulseShader {
     double power_k_;
     double inv_resolution_;
     std::vector<double> brdf_constant_;  // by material index: ρ_d/π (+ retro gain), or −1
+    std::vector<double> diffuse_brdf_;   // by material index: ρ_d/π (the sunlit background)
 };
 
 double thread_cpu_s() {

@@ -161,6 +161,14 @@ class Radiometry {
     double delta_n(double n_laser, double n_other, double z) const;
     // Void rule: N_laser < γ·ΔN.
     bool is_void(double n_laser, double n_other, double z) const;
+    // n returns at once, equal to the calls above element by element, in loops without branches
+    // that vectorise (the pipeline's hot path): out[k] = background_electrons_tau(brdf_diffuse[k],
+    // cos_sun[k], tau[k]); and voids[k] = 1 if is_void(n_laser[k], n_other[k], z[k]) else 0,
+    // with z = 0 when `z` is null (noise off).
+    void background_electrons_many(const double* brdf_diffuse, const double* cos_sun,
+                                   const double* tau, std::size_t n, double* out) const;
+    void voids_many(const double* n_laser, const double* n_other, const double* z, std::size_t n,
+                    double* voids) const;
     // Closed-form probability of a void over z ~ N(0, 1). With a = noise_floor_electrons():
     // void ⇔ a²z² > (N_l/γ)² − N_l − N_o =: Q; Q < 0 → 1; a = 0 → 0; Q = 0 → 1;
     // else P(|z| > √Q/a) = erfc(√Q/(a·√2)). Agrees with is_void() for every z.
