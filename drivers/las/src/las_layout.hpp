@@ -3,6 +3,7 @@
 // point data record formats) and little-endian accessors shared by the writer and reader.
 #pragma once
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -50,16 +51,30 @@ inline constexpr std::array<std::uint16_t, 11> kRecordLengths = {20, 28, 26, 34,
                                                                  30, 36, 38, 59, 67};
 
 inline void put_u8(std::uint8_t* p, std::uint8_t v) { p[0] = v; }
-inline void put_u16(std::uint8_t* p, std::uint16_t v) {
-    p[0] = static_cast<std::uint8_t>(v);
-    p[1] = static_cast<std::uint8_t>(v >> 8);
+// On a little-endian host the bytes are the value's own, copied in one store (the encoder writes
+// a dozen fields per point; GCC did not merge all the byte-by-byte stores); else byte by byte.
+template <class T>
+inline void put_le(std::uint8_t* p, T v) {
+    if constexpr (std::endian::native == std::endian::little) {
+        std::memcpy(p, &v, sizeof v);
+    } else {
+        for (std::size_t i = 0; i < sizeof v; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
+    }
 }
-inline void put_u32(std::uint8_t* p, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
+template <class T>
+inline T get_le(const std::uint8_t* p) {
+    T v = 0;
+    if constexpr (std::endian::native == std::endian::little) {
+        std::memcpy(&v, p, sizeof v);
+    } else {
+        for (std::size_t i = sizeof v; i-- > 0;) v = static_cast<T>((v << 8) | p[i]);
+    }
+    return v;
 }
-inline void put_u64(std::uint8_t* p, std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
+
+inline void put_u16(std::uint8_t* p, std::uint16_t v) { put_le(p, v); }
+inline void put_u32(std::uint8_t* p, std::uint32_t v) { put_le(p, v); }
+inline void put_u64(std::uint8_t* p, std::uint64_t v) { put_le(p, v); }
 inline void put_i16(std::uint8_t* p, std::int16_t v) { put_u16(p, static_cast<std::uint16_t>(v)); }
 inline void put_i32(std::uint8_t* p, std::int32_t v) { put_u32(p, static_cast<std::uint32_t>(v)); }
 inline void put_f64(std::uint8_t* p, double v) {
@@ -68,19 +83,9 @@ inline void put_f64(std::uint8_t* p, double v) {
     put_u64(p, bits);
 }
 
-inline std::uint16_t get_u16(const std::uint8_t* p) {
-    return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
-}
-inline std::uint32_t get_u32(const std::uint8_t* p) {
-    std::uint32_t v = 0;
-    for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
-    return v;
-}
-inline std::uint64_t get_u64(const std::uint8_t* p) {
-    std::uint64_t v = 0;
-    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
-    return v;
-}
+inline std::uint16_t get_u16(const std::uint8_t* p) { return get_le<std::uint16_t>(p); }
+inline std::uint32_t get_u32(const std::uint8_t* p) { return get_le<std::uint32_t>(p); }
+inline std::uint64_t get_u64(const std::uint8_t* p) { return get_le<std::uint64_t>(p); }
 inline std::int16_t get_i16(const std::uint8_t* p) { return static_cast<std::int16_t>(get_u16(p)); }
 inline std::int32_t get_i32(const std::uint8_t* p) { return static_cast<std::int32_t>(get_u32(p)); }
 inline double get_f64(const std::uint8_t* p) {

@@ -132,15 +132,6 @@ GpsTime from_week_time(std::int32_t week, std::int64_t ns_of_week) {
         Nanos{static_cast<std::int64_t>(week) * kSecondsPerWeek * kNsPerSecond + ns_of_week}};
 }
 
-double adjusted_standard_gps_seconds(GpsTime t) {
-    // Split before converting so the result is the correctly rounded value of the exact
-    // decimal (whole seconds and the fraction are each exact in a double).
-    const std::int64_t d = t.time_since_epoch().count() - 1'000'000'000 * kNsPerSecond;
-    const std::int64_t s = floor_div(d, kNsPerSecond);
-    const std::int64_t frac = d - s * kNsPerSecond;
-    return static_cast<double>(s) + static_cast<double>(frac) * 1e-9;
-}
-
 std::optional<Nanos> parse_decimal_seconds(std::string_view text) {
     std::size_t pos = 0;
     bool negative = false;

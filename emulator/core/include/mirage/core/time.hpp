@@ -44,8 +44,19 @@ GpsWeekTime to_week_time(GpsTime t);
 GpsTime from_week_time(std::int32_t week, std::int64_t ns_of_week);
 
 // LAS "adjusted standard GPS time": GPS seconds − 1e9 (LAS 1.4 global encoding bit 0).
-// The only place a time becomes a double, at the file boundary.
-double adjusted_standard_gps_seconds(GpsTime t);
+// The only place a time becomes a double, at the file boundary. Inline: the LAS encoder calls
+// it once per point. Split before converting so the result is the correctly rounded value of the
+// exact decimal (whole seconds and the fraction are each exact in a double).
+inline double adjusted_standard_gps_seconds(GpsTime t) {
+    constexpr std::int64_t kNs = 1'000'000'000;
+    const std::int64_t d = t.time_since_epoch().count() - 1'000'000'000 * kNs;
+    std::int64_t s = d / kNs, frac = d % kNs;
+    if (frac < 0) {  // floor division
+        --s;
+        frac += kNs;
+    }
+    return static_cast<double>(s) + static_cast<double>(frac) * 1e-9;
+}
 
 // Parses "2024-01-01T00:00:00Z" / "2024-01-01 00:00:00" (UTC) or "gps:<seconds>" into GPS time.
 // UTC forms take an optional fraction of up to 9 digits ("...:00.123456789Z"), read exactly,
