@@ -65,8 +65,9 @@ struct EncodedRecords {
 // Formats 1/3 hold 5-bit classes: codes above 31 are written as 1 and counted.
 // Formats 6/7 always carry global-encoding bit 4: the spec makes WKT the only CRS form for
 // them and PDAL refuses such files without the bit, even when no CRS VLR follows.
-// Not thread-safe: one thread writes. Buffered (options.buffer_bytes) with pwrite(2); after
-// each buffer flush the on-disk header is updated, so the file is valid between flushes.
+// Not thread-safe: one thread writes (encode() alone may run on any thread). Buffered
+// (options.buffer_bytes) with pwrite(2); after each buffer flush, and after each
+// write_encoded() chunk, the on-disk header is updated, so the file is valid between them.
 class LasWriter {
   public:
     LasWriter(const std::string& path, const core::Georef& georef, LasWriterOptions opt = {});
