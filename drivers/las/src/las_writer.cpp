@@ -36,8 +36,6 @@ void put_rgb(std::uint8_t* at, const core::PointRecord& p) {
 constexpr double kOffsetGrid_m = 1000.0;
 constexpr double kScanAngleUnit_deg = 0.006;  // formats 6–10 (Table 13)
 
-using Stats = RecordStats;
-
 void put_text(std::uint8_t* p, std::size_t n, const std::string& s) {
     std::memset(p, 0, n);
     std::memcpy(p, s.data(), std::min(n, s.size()));
@@ -93,7 +91,7 @@ struct LasWriter::Impl {
     std::array<std::uint8_t, kHeaderSize14> header_template{};
     std::vector<std::uint8_t> buffer;
     std::size_t used = 0;
-    Stats flushed;
+    RecordStats flushed;
     std::uint64_t buffered_points = 0, rejected = 0, remapped = 0;
     // Double-buffered header images: the signal handler reads the published one while the
     // writer prepares the other, so it always sees a complete header matching `size`.
@@ -107,8 +105,9 @@ struct LasWriter::Impl {
     bool encode(const core::PointRecord& p, std::uint8_t* r,
                 std::uint64_t& remapped_count) const noexcept;
     void accumulate(const std::uint8_t* records, std::size_t n) noexcept;
+    void tally(const std::uint8_t* record, RecordStats& s) const noexcept;
     void append(const std::uint8_t* records, std::size_t bytes, const RecordStats* stats);
-    void build_header(const Stats& s, std::uint8_t* out) const noexcept;
+    void build_header(const RecordStats& s, std::uint8_t* out) const noexcept;
     void publish() noexcept;
     void flush();
     [[noreturn]] void fail(int err);
@@ -252,19 +251,21 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r,
 
 // Statistics from the encoded bytes, so a partial write accounts exactly for what hit disk.
 void LasWriter::Impl::accumulate(const std::uint8_t* records, std::size_t n) noexcept {
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint8_t* r = records + k * record_length;
-        for (int a = 0; a < 3; ++a) {
-            const std::int32_t v = get_i32(r + 4 * a);
-            flushed.min[a] = std::min(flushed.min[a], v);
-            flushed.max[a] = std::max(flushed.max[a], v);
-        }
-        ++flushed.by_return[(r[14] & return_mask) - 1u];
-    }
-    flushed.count += n;
+    for (std::size_t k = 0; k < n; ++k) tally(records + k * record_length, flushed);
 }
 
-void LasWriter::Impl::build_header(const Stats& s, std::uint8_t* out) const noexcept {
+// One encoded record's share of the header: count, count by return, bounds.
+void LasWriter::Impl::tally(const std::uint8_t* r, RecordStats& s) const noexcept {
+    for (std::size_t a = 0; a < 3; ++a) {
+        const std::int32_t v = get_i32(r + 4 * a);
+        s.min[a] = std::min(s.min[a], v);
+        s.max[a] = std::max(s.max[a], v);
+    }
+    ++s.by_return[(r[14] & return_mask) - 1u];
+    ++s.count;
+}
+
+void LasWriter::Impl::build_header(const RecordStats& s, std::uint8_t* out) const noexcept {
     std::memcpy(out, header_template.data(), kHeaderSize14);
     // Formats 0–5 must also fill the legacy fields when the count fits; 6–10 leave them 0.
     const bool legacy =
@@ -392,14 +393,7 @@ void LasWriter::encode(std::span<const core::PointRecord> points, EncodedRecords
             ++out.rejected;
             continue;
         }
-        RecordStats& s = out.stats;
-        for (int a = 0; a < 3; ++a) {
-            const std::int32_t v = get_i32(r + 4 * a);
-            s.min[a] = std::min(s.min[a], v);
-            s.max[a] = std::max(s.max[a], v);
-        }
-        ++s.by_return[(r[14] & im.return_mask) - 1u];
-        ++s.count;
+        im.tally(r, out.stats);
         r += len;
     }
     out.bytes.resize(static_cast<std::size_t>(r - out.bytes.data()));

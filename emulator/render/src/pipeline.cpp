@@ -26,7 +26,14 @@ using core::GpsTime;
 using core::PointRecord;
 
 // Exact poses are computed about this often in firing time (see ChunkBuilder::build).
-constexpr double kPoseSpacing_s = 200e-6;
+constexpr core::Nanos kPoseSpacing{200'000};
+
+// Pulses between exact poses: kPoseSpacing at the sensor's mean rate, 1 to 256 (1 for a rate that
+// is not a positive number).
+std::size_t pose_stride(double pulse_rate_hz) {
+    const double pulses = pulse_rate_hz * 1e-9 * static_cast<double>(kPoseSpacing.count());
+    return pulses >= 2.0 ? static_cast<std::size_t>(std::min(256.0, pulses)) : 1;
+}
 
 // tan(x) for the small offset angles of sub-rays and jitter: the series is exact to double
 // precision below 1e-2 rad and avoids a libm call per draw.
@@ -122,8 +129,7 @@ class ChunkBuilder {
           subrays_(sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile,
                                      sensor.beam.divergence_rad)),
           group_(std::max<std::uint32_t>(1, sensor.scan->group_size())),
-          pose_stride_(static_cast<std::size_t>(
-              std::clamp(std::floor(sensor.scan->pulse_rate_hz() * kPoseSpacing_s), 1.0, 256.0))) {
+          pose_stride_(pose_stride(sensor.scan->pulse_rate_hz())) {
         // d + a·u + b·v has length √(1 + a² + b²) for orthonormal (d, u, v): normalise with a
         // precomputed factor instead of a square root per sub-ray.
         for (const auto& s : subrays_) {
@@ -150,14 +156,14 @@ class ChunkBuilder {
             for (int a = 0; a < 3; ++a) g.v[a][i] = double(g.specs[i].dir[a]);
         }
         // Exact poses (slerp on the trajectory) at the knots, the pulses whose index is a
-        // multiple of pose_stride_ (~kPoseSpacing_s apart); pulses between blend the two
+        // multiple of pose_stride_ (~kPoseSpacing apart); pulses between blend the two
         // bracketing poses (positions linearly, rotation matrices linearly with the direction
         // renormalised), which removes the trigonometry from the per-pulse cost. Over 200 µs an
         // attitude turning at 90°/s moves θ = 3.1e-4 rad, and the blend differs from slerp by at
         // most θ²/16 = 6e-9 rad (12 µm at 2 km; checked numerically over random axes); positions
-        // differ from the cubic by a·h²/8 = 5e-8 m at 10 m/s². Knots by global index make a pulse's pose independent of how pulses are
-        // batched. The pose at the end of one interval starts the next: one trajectory lookup
-        // (~200 cycles) per knot.
+        // differ from the cubic by a·h²/8 = 5e-8 m at 10 m/s². Knots by global index make a pulse's
+        // pose independent of how pulses are batched. The pose at the end of one interval starts
+        // the next: one trajectory lookup (~200 cycles) per knot.
         if (n == 0) {
             g.rays.clear();
             g.first_ray.clear();
