@@ -356,7 +356,7 @@ void noisy_ranges(double* __restrict range, const double* __restrict z, double s
 // Platform jitter (seed 001 eq. 15) of n unit directions: each is turned by the angles σ·zx and
 // σ·zy about two axes orthogonal to it (orthonormal_basis, both of its cases computed and one
 // selected), so the lateral error grows with range. Branch-free so it vectorises; the tangent is
-// the series, exact for angles up to 1e-2 rad: jitter_fixup() redoes larger ones.
+// the series, exact for angles up to 1e-2 rad: PulseShader::positions redoes larger ones.
 void jitter_directions(double* __restrict dx, double* __restrict dy, double* __restrict dz,
                        const double* __restrict zx, const double* __restrict zy, double sigma,
                        std::size_t n) {
@@ -400,10 +400,10 @@ class PulseShader {
         // Per material, the whole BRDF when it does not depend on incidence (diffuse and retro);
         // −1 marks a specular lobe, evaluated by monostatic_brdf per hit.
         for (const scene::Material& m : scene.materials) {
-            double f = m.reflectance / std::numbers::pi;
-            if (m.retroreflective) f += m.retro_gain;
+            const double diffuse = m.reflectance / std::numbers::pi;
+            const double f = m.retroreflective ? diffuse + m.retro_gain : diffuse;
             brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
-            diffuse_brdf_.push_back(m.reflectance / std::numbers::pi);
+            diffuse_brdf_.push_back(diffuse);
         }
         if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     }
@@ -411,75 +411,18 @@ class PulseShader {
     void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                ChunkResult& out) const {
-        const std::size_t n = g.specs.size();
         const std::size_t s_count = subrays.size();
-        const auto& rx = sensor_.receiver;
         scratch.pending.clear();
-        scratch.contributions.resize(s_count);
-        Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, nc)
         const double alpha = env_.atmosphere.extinction_per_m;
         // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
         std::vector<double> weighted_k(s_count);
         for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
         ray_terms(g, hits, scratch);
         const double* terms = scratch.ray_terms.data();
-        if (s_count == 1) {
+        if (s_count == 1)
             single_returns(g, hits, terms, weighted_k[0], scratch, out.stats);
-        } else {
-            for (std::size_t i = 0; i < n; ++i) {
-                const Hit* h = &hits[g.first_ray[i]];
-                const Ray* ray = &g.rays[g.first_ray[i]];
-                const double* term = terms + g.first_ray[i];
-                std::size_t nc = 0;
-                bool any_close = false;
-                // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
-                // into several returns would sum them): range span, power-weighted range, power,
-                // and the strongest sub-ray (the first of equals).
-                double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-                double sum_rp = 0, sum_p = 0, best_p = -1;
-                std::uint32_t best_sub = 0;
-                for (std::size_t s = 0; s < s_count; ++s) {
-                    if (!h[s].hit()) continue;
-                    const double range = h[s].t;
-                    if (range < rx.min_range_m) {
-                        any_close = true;
-                        continue;
-                    }
-                    if (range > rx.max_range_m) continue;
-                    double t = term[s];
-                    if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
-                        const double cos_inc = incidence(ray[s], h[s]);
-                        t = -t * physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc);
-                    }
-                    const double p = weighted_k[s] * t;
-                    buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
-                    lo = std::min(lo, range);
-                    hi = std::max(hi, range);
-                    sum_rp += range * p;
-                    sum_p += p;
-                    if (p > best_p) {
-                        best_p = p;
-                        best_sub = static_cast<std::uint32_t>(s);
-                    }
-                }
-                out.stats.pulses++;
-                if (nc == 0) {
-                    if (any_close)
-                        out.stats.too_close++;
-                    else
-                        out.stats.misses++;
-                    continue;
-                }
-                // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can
-                // split them and one return takes them all, without sorting.
-                const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
-                const auto ii = static_cast<std::uint32_t>(i);
-                if (hi - lo <= separation_m_)
-                    add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), scratch);
-                else
-                    split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), scratch);
-            }
-        }
+        else
+            clustered_returns(g, hits, terms, weighted_k, scratch, out.stats);
         out.stats.rays += hits.size();
         draw(first, scratch);
         // Photo-electrons, intensity and (for the background) one-way transmission of every
@@ -561,6 +504,71 @@ class PulseShader {
                 chosen[kept++] = to_return(sums[k]);
         }
         add_returns(i, first_hit, std::span<const Return>(chosen, kept), scratch);
+    }
+
+    // Several sub-rays per pulse: their hits merge into returns (split_returns when they spread
+    // over more than c·τ/2).
+    void clustered_returns(const ChunkGeometry& g, const std::vector<Hit>& hits,
+                           const double* terms, const std::vector<double>& weighted_k,
+                           ShadeScratch& scratch, RenderStats& stats) const {
+        const std::size_t n = g.specs.size();
+        const std::size_t s_count = weighted_k.size();
+        const auto& rx = sensor_.receiver;
+        scratch.contributions.resize(s_count);
+        Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, nc)
+        for (std::size_t i = 0; i < n; ++i) {
+            const Hit* h = &hits[g.first_ray[i]];
+            const Ray* ray = &g.rays[g.first_ray[i]];
+            const double* term = terms + g.first_ray[i];
+            std::size_t nc = 0;
+            bool any_close = false;
+            // The one-return aggregates, accumulated on the way (in sub-ray order, as a split
+            // into several returns would sum them): range span, power-weighted range, power,
+            // and the strongest sub-ray (the first of equals).
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            double sum_rp = 0, sum_p = 0, best_p = -1;
+            std::uint32_t best_sub = 0;
+            for (std::size_t s = 0; s < s_count; ++s) {
+                if (!h[s].hit()) continue;
+                const double range = h[s].t;
+                if (range < rx.min_range_m) {
+                    any_close = true;
+                    continue;
+                }
+                if (range > rx.max_range_m) continue;
+                double t = term[s];
+                if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
+                    const double cos_inc = incidence(ray[s], h[s]);
+                    t = -t * physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc);
+                }
+                const double p = weighted_k[s] * t;
+                buffer[nc++] = {range, p, static_cast<std::uint32_t>(s)};
+                lo = std::min(lo, range);
+                hi = std::max(hi, range);
+                sum_rp += range * p;
+                sum_p += p;
+                if (p > best_p) {
+                    best_p = p;
+                    best_sub = static_cast<std::uint32_t>(s);
+                }
+            }
+            stats.pulses++;
+            if (nc == 0) {
+                if (any_close)
+                    stats.too_close++;
+                else
+                    stats.misses++;
+                continue;
+            }
+            // Usual case: every sub-ray hit lies within c·τ/2 of the others, so no gap can
+            // split them and one return takes them all, without sorting.
+            const Return one{sum_p > 0 ? sum_rp / sum_p : buffer[0].range_m, sum_p, best_sub};
+            const auto ii = static_cast<std::uint32_t>(i);
+            if (hi - lo <= separation_m_)
+                add_returns(ii, g.first_ray[i], std::span<const Return>(&one, 1), scratch);
+            else
+                split_returns(ii, g.first_ray[i], std::span<Contribution>(buffer, nc), scratch);
+        }
     }
 
     // One sub-ray per pulse: its hit, if within the receiver's ranges, is the pulse's only
