@@ -187,6 +187,23 @@ TEST(LasDiskFull, efbig_on_close_cuts_the_file_to_whole_records_and_names_it) {
                 static_cast<unsigned long long>(f.file_size()), r.message.c_str());
 }
 
+// A format-7 file cut by a 50 000-byte limit after 1378 whole records: message, header, size and
+// the records themselves.
+LasFile expect_cut_after_1378(const DiskFullResult& r, const std::string& path,
+                              const std::vector<core::PointRecord>& pts) {
+    EXPECT_TRUE(WIFEXITED(r.status));
+    EXPECT_EQ(WEXITSTATUS(r.status), 0) << r.message;
+    EXPECT_NE(r.message.find("after 1378 points; file cut to 1378 whole records"),
+              std::string::npos)
+        << r.message;
+    LasFile f = LasFile::read(path);
+    EXPECT_TRUE(f.validate().empty()) << ::testing::PrintToString(f.validate());
+    EXPECT_EQ(f.header().point_count, 1378u);
+    EXPECT_EQ(f.file_size(), 375u + 1378u * 36u);
+    expect_points_match(f, pts);
+    return f;
+}
+
 TEST(LasDiskFull, efbig_mid_stream_keeps_earlier_flushes_and_the_whole_part_of_the_last) {
     TempDir dir;
     const std::string path = dir.file("full7.las");
@@ -198,16 +215,7 @@ TEST(LasDiskFull, efbig_mid_stream_keeps_earlier_flushes_and_the_whole_part_of_t
         for (std::size_t k = 0; k < pts.size(); k += 10) w.write(std::span(pts).subspan(k, 10));
         w.close();
     });
-    ASSERT_TRUE(WIFEXITED(r.status));
-    ASSERT_EQ(WEXITSTATUS(r.status), 0) << r.message;
-    EXPECT_NE(r.message.find("after 1378 points; file cut to 1378 whole records"),
-              std::string::npos)
-        << r.message;
-    const LasFile f = LasFile::read(path);
-    EXPECT_TRUE(f.validate().empty()) << ::testing::PrintToString(f.validate());
-    EXPECT_EQ(f.header().point_count, 1378u);
-    EXPECT_EQ(f.file_size(), 375u + 1378u * 36u);
-    expect_points_match(f, pts);
+    const LasFile f = expect_cut_after_1378(r, path, pts);
     std::printf("EFBIG mid-stream: limit 50000 B -> %llu points, %llu bytes\n",
                 static_cast<unsigned long long>(f.header().point_count),
                 static_cast<unsigned long long>(f.file_size()));
@@ -229,16 +237,7 @@ TEST(LasDiskFull, efbig_in_an_encoded_chunk_keeps_the_whole_records_before_it) {
         }
         w.close();
     });
-    ASSERT_TRUE(WIFEXITED(r.status));
-    ASSERT_EQ(WEXITSTATUS(r.status), 0) << r.message;
-    EXPECT_NE(r.message.find("after 1378 points; file cut to 1378 whole records"),
-              std::string::npos)
-        << r.message;
-    const LasFile f = LasFile::read(path);
-    EXPECT_TRUE(f.validate().empty()) << ::testing::PrintToString(f.validate());
-    EXPECT_EQ(f.header().point_count, 1378u);
-    EXPECT_EQ(f.file_size(), 375u + 1378u * 36u);
-    expect_points_match(f, pts);
+    expect_cut_after_1378(r, path, pts);
 }
 
 }  // namespace
