@@ -1,6 +1,4 @@
 // SPDX-License-Identifier: Apache-2.0
-#include <algorithm>
-
 #include "mirage/core/rng.hpp"
 
 namespace mirage::core {

@@ -35,14 +35,6 @@ std::size_t pose_stride(double pulse_rate_hz) {
     return pulses >= 2.0 ? static_cast<std::size_t>(std::min(256.0, pulses)) : 1;
 }
 
-// tan(x) for the small offset angles of sub-rays and jitter: the series is exact to double
-// precision below 1e-2 rad and avoids a libm call per draw.
-inline double small_tan(double x) {
-    if (std::abs(x) > 1e-2) return std::tan(x);
-    const double x2 = x * x;
-    return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
-}
-
 // Two unit vectors orthogonal to unit d (and to each other), for sub-ray offsets and jitter.
 // Written out so each costs one square root and one division (Eigen's normalized() divides
 // per component, and these divisions dominated the per-pulse profile).
@@ -327,7 +319,8 @@ void ray_terms(const Ray* __restrict ray, const Hit* __restrict h, const double*
     }
 }
 
-// tan(x) by its series: exact to double precision for |x| ≤ 1e-2 (see small_tan).
+// tan(x) by its series, for the small jitter angles: exact to double precision for |x| ≤ 1e-2,
+// and no libm call per draw.
 inline double series_tan(double x) {
     const double x2 = x * x;
     return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
