@@ -54,7 +54,7 @@ struct RenderOptions {
     core::Nanos duration{std::chrono::seconds(1)};
     bool noise = true;  // range noise, jitter, detector noise
     // Work unit handed between threads; results do not depend on it.
-    std::size_t chunk_pulses = 8192;
+    std::size_t chunk_pulses = 32768;
     // Chunks the workers may finish ahead of the one being written (0: 2 per thread + 2). A
     // real-time output raises it so the renderers' lead rides out tens of milliseconds of CPU
     // contention. Results do not depend on it either.
@@ -70,8 +70,8 @@ struct RenderStats {
     std::uint64_t too_close = 0;  // hit nearer than min range
     std::uint64_t rays = 0;       // sub-rays traced
     double seconds = 0;
-    // CPU time per stage summed over threads (CLOCK_THREAD_CPUTIME_ID): where the time goes,
-    // independent of other processes sharing the cores.
+    // CPU time per stage summed over threads (each worker's CPU clock per chunk, split between the
+    // stages by the steady clock): where the time goes, independent of other processes.
     double cpu_rays_s = 0;    // pulse specs, poses, ray generation
     double cpu_trace_s = 0;   // Renderer::intersect
     double cpu_shade_s = 0;   // physics, noise, point records
