@@ -397,8 +397,10 @@ class PulseShader {
             const double f = m.retroreflective ? diffuse + m.retro_gain : diffuse;
             brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
             diffuse_brdf_.push_back(diffuse);
+            point_fields_.push_back({m.red, m.green, m.blue, m.classification});
         }
         if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
+        if (point_fields_.empty()) point_fields_.push_back({});
     }
 
     void shade(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
@@ -714,53 +716,66 @@ class PulseShader {
         }
     }
 
-    // Detection and the point records of the pending returns, pulse by pulse.
+    // The point records of the pending returns that are not voids. Every pending return is
+    // written and only one that is not a void advances the count, so the loop has no branch on
+    // the void test and reads the pulse and material fields by index; return numbers follow per
+    // pulse.
     void emit_points(std::uint64_t first, const ChunkGeometry& g, const std::vector<Hit>& hits,
                      const ShadeScratch& scratch, ChunkResult& out) const {
         const std::size_t np = scratch.pending.size();
-        for (std::size_t j = 0; j < np;) {
-            const std::uint32_t i = scratch.pending[j].i;
-            const sensor::PulseSpec& spec = g.specs[i];
-            const std::size_t first_point = out.points.size();
-            bool any_void = false;
-            for (; j < np && scratch.pending[j].i == i; ++j) {
-                const PendingReturn& r = scratch.pending[j];
-                const Hit& hit = hits[r.hit];
-                const scene::Material& m = scene_.materials[hit.material];
-                const double n_laser = scratch.n_laser[j];
-                if (scratch.voids[j] != 0.0) {
-                    any_void = true;
-                    continue;
-                }
-                PointRecord& pt = out.points.emplace_back();  // filled in place, no temporary
-                pt.x = scratch.at[0][j];
-                pt.y = scratch.at[1][j];
-                pt.z = scratch.at[2][j];
-                pt.t = opt_.start + core::Nanos(spec.t_ns);
-                pt.pulse = first + i;
-                pt.range_m = static_cast<float>(scratch.range[j]);
-                pt.scan_angle_deg = spec.scan_angle_deg;
-                pt.azimuth_deg = spec.azimuth_deg;
-                pt.n_laser = n_laser;
-                pt.intensity = scratch.intensity[j];
-                pt.channel = spec.channel;
-                pt.point_source_id = sensor_.point_source_id;
-                pt.red = m.red;
-                pt.green = m.green;
-                pt.blue = m.blue;
-                pt.classification = m.classification;
-                pt.scan_direction = spec.scan_direction;
-                pt.edge_of_flight_line = spec.edge_of_flight_line;
-            }
-            const std::size_t emitted = out.points.size() - first_point;
-            for (std::size_t k = 0; k < emitted; ++k) {
-                out.points[first_point + k].return_number = static_cast<std::uint8_t>(k + 1);
-                out.points[first_point + k].number_of_returns = static_cast<std::uint8_t>(emitted);
-            }
-            if (emitted == 0 && any_void) out.stats.voids++;
-            out.stats.points += emitted;
+        const std::size_t base = out.points.size();
+        out.points.resize(base + np);
+        PointRecord* pts = out.points.data() + base;
+        const PendingReturn* pending = scratch.pending.data();
+        const double* voids = scratch.voids.data();
+        std::size_t kept = 0;
+        for (std::size_t j = 0; j < np; ++j) {
+            const PendingReturn& r = pending[j];
+            const sensor::PulseSpec& spec = g.specs[r.i];
+            const PointFields& m = point_fields_[hits[r.hit].material];
+            PointRecord& pt = pts[kept];
+            pt.x = scratch.at[0][j];
+            pt.y = scratch.at[1][j];
+            pt.z = scratch.at[2][j];
+            pt.t = opt_.start + core::Nanos(spec.t_ns);
+            pt.pulse = first + r.i;
+            pt.range_m = static_cast<float>(scratch.range[j]);
+            pt.scan_angle_deg = spec.scan_angle_deg;
+            pt.azimuth_deg = spec.azimuth_deg;
+            pt.n_laser = scratch.n_laser[j];
+            pt.intensity = scratch.intensity[j];
+            pt.channel = spec.channel;
+            pt.point_source_id = sensor_.point_source_id;
+            pt.red = m.red;
+            pt.green = m.green;
+            pt.blue = m.blue;
+            pt.classification = m.classification;
+            pt.scan_direction = spec.scan_direction;
+            pt.edge_of_flight_line = spec.edge_of_flight_line;
+            kept += voids[j] == 0.0;
         }
+        out.points.resize(base + kept);
+        // Each pulse's points in order, nearest first; a pulse whose returns were all voids
+        // counts as one void.
+        PointRecord* pt = pts;
+        for (std::size_t j = 0; j < np;) {
+            const std::uint32_t i = pending[j].i;
+            std::size_t n = 0;
+            for (; j < np && pending[j].i == i; ++j) n += voids[j] == 0.0;
+            if (n == 0) out.stats.voids++;
+            for (std::size_t k = 0; k < n; ++k, ++pt) {
+                pt->return_number = static_cast<std::uint8_t>(k + 1);
+                pt->number_of_returns = static_cast<std::uint8_t>(n);
+            }
+        }
+        out.stats.points += kept;
     }
+
+    // What a point record takes from its material, packed (scene::Material is a large struct).
+    struct PointFields {
+        std::uint16_t red, green, blue;
+        std::uint8_t classification;
+    };
 
     const scene::Scene& scene_;
     const sensor::SensorModel& sensor_;
@@ -772,8 +787,9 @@ class PulseShader {
     double separation_m_;
     double power_k_;
     double inv_resolution_;
-    std::vector<double> brdf_constant_;  // by material index: ρ_d/π (+ retro gain), or −1
-    std::vector<double> diffuse_brdf_;   // by material index: ρ_d/π (the sunlit background)
+    std::vector<double> brdf_constant_;      // by material index: ρ_d/π (+ retro gain), or −1
+    std::vector<double> diffuse_brdf_;       // by material index: ρ_d/π (the sunlit background)
+    std::vector<PointFields> point_fields_;  // by material index
 };
 
 double thread_cpu_s() {
