@@ -807,23 +807,24 @@ class StageClock {
     StageClock() : cpu0_(thread_cpu_s()), last_(std::chrono::steady_clock::now()) {}
     void lap(Stage s) {
         const auto now = std::chrono::steady_clock::now();
-        wall_[s] += std::chrono::duration<double>(now - last_).count();
+        wall_[s] += now - last_;
         last_ = now;
     }
     void add_to(RenderStats& stats) const {
-        double wall = 0;
-        for (double w : wall_) wall += w;
-        const double k = wall > 0 ? (thread_cpu_s() - cpu0_) / wall : 0.0;
-        stats.cpu_rays_s += k * wall_[kRays];
-        stats.cpu_trace_s += k * wall_[kTrace];
-        stats.cpu_shade_s += k * wall_[kShade];
-        stats.cpu_output_s += k * wall_[kOutput];
+        std::chrono::steady_clock::duration wall{};
+        for (const auto& w : wall_) wall += w;
+        const double k =
+            wall.count() > 0 ? (thread_cpu_s() - cpu0_) / static_cast<double>(wall.count()) : 0.0;
+        stats.cpu_rays_s += k * static_cast<double>(wall_[kRays].count());
+        stats.cpu_trace_s += k * static_cast<double>(wall_[kTrace].count());
+        stats.cpu_shade_s += k * static_cast<double>(wall_[kShade].count());
+        stats.cpu_output_s += k * static_cast<double>(wall_[kOutput].count());
     }
 
   private:
     double cpu0_;
     std::chrono::steady_clock::time_point last_;
-    std::array<double, kStages> wall_{};
+    std::array<std::chrono::steady_clock::duration, kStages> wall_{};  // integer ticks
 };
 
 void accumulate(RenderStats& into, const RenderStats& s) {
