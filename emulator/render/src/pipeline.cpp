@@ -799,8 +799,8 @@ double thread_cpu_s() {
 }
 
 // A worker's CPU time per stage over one chunk. The thread's CPU clock is a system call (~2 600
-// cycles on the development VM; read per stage and batch it cost ~6 cycles per pulse), so it is
-// read once per chunk and split between the stages by the steady clock (a vDSO read).
+// cycles a read on the development VM: 5 reads per 2 048-pulse batch come to ~6 cycles a pulse),
+// so it is read once per chunk and split between the stages by the steady clock (a vDSO read).
 class StageClock {
   public:
     enum Stage { kRays, kTrace, kShade, kOutput, kStages };
