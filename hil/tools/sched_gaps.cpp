@@ -3,14 +3,26 @@
 // clock. Any user-space sender is late by at least the rest of such a gap when a send time falls
 // inside it, so the share of instants delayed by more than X bounds what a replay or a fake
 // sensor can reach on this machine (scripts/bench-replay prints it beside the timing results).
+// With --threads N, one spinning thread per CPU: were the CPUs held off together (a virtual
+// machine descheduled whole), no second sending thread could cover for the first.
+#include <pthread.h>
+#include <sched.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <string>
+#include <thread>
+#include <vector>
+
+#include "gap_overlap.hpp"
 
 namespace {
+
+using mirage::hil::Gap;
 
 std::int64_t monotonic_ns() {
     timespec t{};
@@ -18,53 +30,108 @@ std::int64_t monotonic_ns() {
     return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec;
 }
 
+// Spins from `start` to `end` reading the clock; returns the gaps over 10 µs (a read takes ~20 ns).
+std::vector<Gap> spin(std::int64_t start, std::int64_t end) {
+    std::vector<Gap> gaps;
+    gaps.reserve(1 << 16);
+    while (monotonic_ns() < start) {
+    }
+    std::int64_t prev = monotonic_ns(), now = prev;
+    while ((now = monotonic_ns()) < end) {
+        if (now - prev > 10'000) gaps.push_back({prev, now});
+        prev = now;
+    }
+    return gaps;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"Measure the scheduling gaps a spinning thread sees on this machine"};
     double seconds = 10;
+    unsigned threads = 1;
     std::string json;
     app.add_option("--seconds", seconds, "How long to spin")->capture_default_str();
+    app.add_option("--threads", threads,
+                   "Spinning threads, pinned one per CPU when more than one; also reports the "
+                   "instants when all of them were held off at once")
+        ->capture_default_str();
     app.add_option("--json", json, "Also write the result as one JSON object to this file");
     CLI11_PARSE(app, argc, argv);
     if (!(seconds > 0) || seconds > 3600) {
         std::fprintf(stderr, "mirage-sched-gaps: --seconds must be in (0, 3600]\n");
         return 2;
     }
-    // A gap = time between two consecutive clock reads above 5 µs (a read takes ~20 ns).
-    // delayed[k]: total time of instants that a thread would reach later than thresholds[k].
-    constexpr std::int64_t kThresholds[] = {10'000, 20'000, 50'000, 100'000};
-    std::int64_t count[4] = {}, delayed[4] = {}, worst = 0;
-    const std::int64_t start = monotonic_ns();
-    const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
-    std::int64_t prev = start, now = start;
-    while ((now = monotonic_ns()) < end) {
-        const std::int64_t gap = now - prev;
-        prev = now;
-        if (gap < 5'000) continue;
-        if (gap > worst) worst = gap;
-        for (int k = 0; k < 4; ++k) {
-            if (gap > kThresholds[k]) {
-                ++count[k];
-                delayed[k] += gap - kThresholds[k];
-            }
-        }
+    const unsigned cpus = std::max(1u, std::thread::hardware_concurrency());
+    if (threads < 1 || threads > cpus) {
+        std::fprintf(stderr, "mirage-sched-gaps: --threads must be in [1, %u] (CPUs)\n", cpus);
+        return 2;
     }
-    const double span = static_cast<double>(now - start);
-    auto pct = [&](int k) { return 100.0 * static_cast<double>(delayed[k]) / span; };
+    // All threads spin over the same span, starting 10 ms from now (after they have started).
+    const std::int64_t start = monotonic_ns() + 10'000'000;
+    const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
+    std::vector<std::vector<Gap>> gaps(threads);
+    std::vector<std::thread> pool;
+    for (unsigned c = 0; c < threads; ++c) {
+        pool.emplace_back([&, c] {
+            if (threads > 1) {
+                cpu_set_t set;
+                CPU_ZERO(&set);
+                CPU_SET(c, &set);
+                pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+            }
+            gaps[c] = spin(start, end);
+        });
+    }
+    for (auto& t : pool) t.join();
+
+    constexpr std::int64_t kThresholds[] = {10'000, 20'000, 50'000, 100'000};
+    const double span = static_cast<double>(end - start);
+    // Share of instants (%) that the given threads all reach more than thresholds[k] late.
+    const auto pct = [&](const std::vector<std::vector<Gap>>& g, int k) {
+        return 100.0 * static_cast<double>(mirage::hil::delayed_for_all(g, kThresholds[k])) / span;
+    };
+    std::int64_t count[4] = {}, worst = 0;
+    for (const Gap& x : gaps[0]) {
+        worst = std::max(worst, x.end - x.begin);
+        for (int k = 0; k < 4; ++k) count[k] += x.end - x.begin > kThresholds[k];
+    }
     auto rate = [&](int k) { return static_cast<double>(count[k]) / (span * 1e-9); };
+    const std::vector<std::vector<Gap>> first(gaps.begin(), gaps.begin() + 1);
     std::printf(
         "sched-gaps: %.1f s spinning: gaps > 10/20/50/100 us: %.0f/%.0f/%.0f/%.0f per s, worst "
         "%.1f us; instants delayed > 10/20/50/100 us: %.2f/%.2f/%.3f/%.3f %%\n",
-        span * 1e-9, rate(0), rate(1), rate(2), rate(3), static_cast<double>(worst) * 1e-3, pct(0),
-        pct(1), pct(2), pct(3));
+        span * 1e-9, rate(0), rate(1), rate(2), rate(3), static_cast<double>(worst) * 1e-3,
+        pct(first, 0), pct(first, 1), pct(first, 2), pct(first, 3));
+    if (threads > 1) {
+        for (unsigned c = 1; c < threads; ++c) {
+            const std::vector<std::vector<Gap>> one(gaps.begin() + c, gaps.begin() + c + 1);
+            std::printf(
+                "sched-gaps: thread on CPU %u: instants delayed > 10/20/50/100 us: "
+                "%.2f/%.2f/%.3f/%.3f %%\n",
+                c, pct(one, 0), pct(one, 1), pct(one, 2), pct(one, 3));
+        }
+        // What independent CPUs would give: the product of the threads' shares.
+        double independent = 1;
+        for (unsigned c = 0; c < threads; ++c) {
+            const std::vector<std::vector<Gap>> one(gaps.begin() + c, gaps.begin() + c + 1);
+            independent *= pct(one, 1) / 100.0;
+        }
+        std::printf(
+            "sched-gaps: all %u threads at once: instants delayed > 10/20/50/100 us: "
+            "%.2f/%.2f/%.3f/%.3f %% (> 20 us if the CPUs were held off independently: %.4f %%)\n",
+            threads, pct(gaps, 0), pct(gaps, 1), pct(gaps, 2), pct(gaps, 3), 100.0 * independent);
+    }
     if (!json.empty()) {
         std::ofstream f(json);
-        f << "{\"seconds\": " << span * 1e-9 << ", \"gaps_per_s_over_20us\": " << rate(1)
-          << ", \"gaps_per_s_over_50us\": " << rate(2)
+        f << "{\"seconds\": " << span * 1e-9 << ", \"threads\": " << threads
+          << ", \"gaps_per_s_over_20us\": " << rate(1) << ", \"gaps_per_s_over_50us\": " << rate(2)
           << ", \"worst_us\": " << static_cast<double>(worst) * 1e-3
-          << ", \"delayed_pct_over_10us\": " << pct(0) << ", \"delayed_pct_over_20us\": " << pct(1)
-          << ", \"delayed_pct_over_50us\": " << pct(2) << "}\n";
+          << ", \"delayed_pct_over_10us\": " << pct(first, 0)
+          << ", \"delayed_pct_over_20us\": " << pct(first, 1)
+          << ", \"delayed_pct_over_50us\": " << pct(first, 2)
+          << ", \"all_threads_delayed_pct_over_20us\": " << pct(gaps, 1)
+          << ", \"all_threads_delayed_pct_over_50us\": " << pct(gaps, 2) << "}\n";
         if (!f) {
             std::fprintf(stderr, "mirage-sched-gaps: cannot write %s\n", json.c_str());
             return 1;
