@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace mirage::hil {
@@ -17,7 +18,7 @@ struct Gap {
 // instants t with, for each thread, a gap where begin ≤ t < end − late. Each thread's gaps are in
 // time order and do not overlap (as one thread records them). With one thread this is the sum of
 // (end − begin − late) over its gaps longer than `late`.
-inline std::int64_t delayed_for_all(const std::vector<std::vector<Gap>>& gaps, std::int64_t late) {
+inline std::int64_t delayed_for_all(std::span<const std::vector<Gap>> gaps, std::int64_t late) {
     if (gaps.empty()) return 0;
     // One thread's delayed instants: [begin, end − late) of each gap longer than `late`.
     const auto delayed = [late](const std::vector<Gap>& g) {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
     constexpr std::int64_t kThresholds[] = {10'000, 20'000, 50'000, 100'000};
     const double span = static_cast<double>(end - start);
     // Share of instants (%) that the given threads all reach more than thresholds[k] late.
-    const auto pct = [&](const std::vector<std::vector<Gap>>& g, int k) {
+    const auto pct = [&](std::span<const std::vector<Gap>> g, int k) {
         return 100.0 * static_cast<double>(mirage::hil::delayed_for_all(g, kThresholds[k])) / span;
     };
     std::int64_t count[4] = {}, worst = 0;
@@ -97,7 +98,7 @@ int main(int argc, char** argv) {
         for (int k = 0; k < 4; ++k) count[k] += x.end - x.begin > kThresholds[k];
     }
     auto rate = [&](int k) { return static_cast<double>(count[k]) / (span * 1e-9); };
-    const std::vector<std::vector<Gap>> first(gaps.begin(), gaps.begin() + 1);
+    const auto first = std::span<const std::vector<Gap>>(gaps).first(1);
     std::printf(
         "sched-gaps: %.1f s spinning: gaps > 10/20/50/100 us: %.0f/%.0f/%.0f/%.0f per s, worst "
         "%.1f us; instants delayed > 10/20/50/100 us: %.2f/%.2f/%.3f/%.3f %%\n",
@@ -105,7 +106,7 @@ int main(int argc, char** argv) {
         pct(first, 0), pct(first, 1), pct(first, 2), pct(first, 3));
     if (threads > 1) {
         for (unsigned c = 1; c < threads; ++c) {
-            const std::vector<std::vector<Gap>> one(gaps.begin() + c, gaps.begin() + c + 1);
+            const auto one = std::span<const std::vector<Gap>>(gaps).subspan(c, 1);
             std::printf(
                 "sched-gaps: thread on CPU %u: instants delayed > 10/20/50/100 us: "
                 "%.2f/%.2f/%.3f/%.3f %%\n",
@@ -114,8 +115,7 @@ int main(int argc, char** argv) {
         // What independent CPUs would give: the product of the threads' shares.
         double independent = 1;
         for (unsigned c = 0; c < threads; ++c) {
-            const std::vector<std::vector<Gap>> one(gaps.begin() + c, gaps.begin() + c + 1);
-            independent *= pct(one, 1) / 100.0;
+            independent *= pct(std::span<const std::vector<Gap>>(gaps).subspan(c, 1), 1) / 100.0;
         }
         std::printf(
             "sched-gaps: all %u threads at once: instants delayed > 10/20/50/100 us: "
