@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <span>
@@ -72,6 +73,7 @@ int main(int argc, char** argv) {
     const std::int64_t start = monotonic_ns() + 10'000'000;
     const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
     std::vector<std::vector<Gap>> gaps(threads);
+    std::vector<int> pin_error(threads, 0);
     std::vector<std::thread> pool;
     for (unsigned c = 0; c < threads; ++c) {
         pool.emplace_back([&, c] {
@@ -79,12 +81,21 @@ int main(int argc, char** argv) {
                 cpu_set_t set;
                 CPU_ZERO(&set);
                 CPU_SET(c, &set);
-                pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+                pin_error[c] = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+                if (pin_error[c] != 0) return;
             }
             gaps[c] = spin(start, end);
         });
     }
     for (auto& t : pool) t.join();
+    for (unsigned c = 0; c < threads; ++c) {
+        if (pin_error[c] != 0) {
+            std::fprintf(stderr, "mirage-sched-gaps: cannot pin a thread to CPU %u: %s\n", c,
+                         std::strerror(pin_error[c]));
+            return 1;
+        }
+    }
+    const std::span<const std::vector<Gap>> all(gaps);
 
     constexpr std::int64_t kThresholds[] = {10'000, 20'000, 50'000, 100'000};
     const double span = static_cast<double>(end - start);
@@ -98,7 +109,7 @@ int main(int argc, char** argv) {
         for (int k = 0; k < 4; ++k) count[k] += x.end - x.begin > kThresholds[k];
     }
     auto rate = [&](int k) { return static_cast<double>(count[k]) / (span * 1e-9); };
-    const auto first = std::span<const std::vector<Gap>>(gaps).first(1);
+    const auto first = all.first(1);
     std::printf(
         "sched-gaps: %.1f s spinning: gaps > 10/20/50/100 us: %.0f/%.0f/%.0f/%.0f per s, worst "
         "%.1f us; instants delayed > 10/20/50/100 us: %.2f/%.2f/%.3f/%.3f %%\n",
@@ -106,7 +117,7 @@ int main(int argc, char** argv) {
         pct(first, 0), pct(first, 1), pct(first, 2), pct(first, 3));
     if (threads > 1) {
         for (unsigned c = 1; c < threads; ++c) {
-            const auto one = std::span<const std::vector<Gap>>(gaps).subspan(c, 1);
+            const auto one = all.subspan(c, 1);
             std::printf(
                 "sched-gaps: thread on CPU %u: instants delayed > 10/20/50/100 us: "
                 "%.2f/%.2f/%.3f/%.3f %%\n",
@@ -115,12 +126,12 @@ int main(int argc, char** argv) {
         // What independent CPUs would give: the product of the threads' shares.
         double independent = 1;
         for (unsigned c = 0; c < threads; ++c) {
-            independent *= pct(std::span<const std::vector<Gap>>(gaps).subspan(c, 1), 1) / 100.0;
+            independent *= pct(all.subspan(c, 1), 1) / 100.0;
         }
         std::printf(
             "sched-gaps: all %u threads at once: instants delayed > 10/20/50/100 us: "
             "%.2f/%.2f/%.3f/%.3f %% (> 20 us if the CPUs were held off independently: %.4f %%)\n",
-            threads, pct(gaps, 0), pct(gaps, 1), pct(gaps, 2), pct(gaps, 3), 100.0 * independent);
+            threads, pct(all, 0), pct(all, 1), pct(all, 2), pct(all, 3), 100.0 * independent);
     }
     if (!json.empty()) {
         std::ofstream f(json);
@@ -130,8 +141,8 @@ int main(int argc, char** argv) {
           << ", \"delayed_pct_over_10us\": " << pct(first, 0)
           << ", \"delayed_pct_over_20us\": " << pct(first, 1)
           << ", \"delayed_pct_over_50us\": " << pct(first, 2)
-          << ", \"all_threads_delayed_pct_over_20us\": " << pct(gaps, 1)
-          << ", \"all_threads_delayed_pct_over_50us\": " << pct(gaps, 2) << "}\n";
+          << ", \"all_threads_delayed_pct_over_20us\": " << pct(all, 1)
+          << ", \"all_threads_delayed_pct_over_50us\": " << pct(all, 2) << "}\n";
         if (!f) {
             std::fprintf(stderr, "mirage-sched-gaps: cannot write %s\n", json.c_str());
             return 1;
