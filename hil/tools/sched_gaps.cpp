@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -100,49 +101,54 @@ int main(int argc, char** argv) {
     constexpr std::int64_t kThresholds[] = {10'000, 20'000, 50'000, 100'000};
     const double span = static_cast<double>(end - start);
     // Share of instants (%) that the given threads all reach more than thresholds[k] late.
-    const auto pct = [&](std::span<const std::vector<Gap>> g, int k) {
-        return 100.0 * static_cast<double>(mirage::hil::delayed_for_all(g, kThresholds[k])) / span;
+    const auto pct = [&](std::span<const std::vector<Gap>> g) {
+        std::array<double, 4> out{};
+        for (int k = 0; k < 4; ++k)
+            out[k] =
+                100.0 * static_cast<double>(mirage::hil::delayed_for_all(g, kThresholds[k])) / span;
+        return out;
     };
+    std::vector<std::array<double, 4>> thread_pct;  // each thread alone
+    for (unsigned c = 0; c < threads; ++c) thread_pct.push_back(pct(all.subspan(c, 1)));
+    const std::array<double, 4> all_pct = threads > 1 ? pct(all) : thread_pct[0];
     std::int64_t count[4] = {}, worst = 0;
     for (const Gap& x : gaps[0]) {
         worst = std::max(worst, x.end - x.begin);
         for (int k = 0; k < 4; ++k) count[k] += x.end - x.begin > kThresholds[k];
     }
     auto rate = [&](int k) { return static_cast<double>(count[k]) / (span * 1e-9); };
-    const auto first = all.first(1);
+    const std::array<double, 4>& first = thread_pct[0];
     std::printf(
         "sched-gaps: %.1f s spinning: gaps > 10/20/50/100 us: %.0f/%.0f/%.0f/%.0f per s, worst "
         "%.1f us; instants delayed > 10/20/50/100 us: %.2f/%.2f/%.3f/%.3f %%\n",
         span * 1e-9, rate(0), rate(1), rate(2), rate(3), static_cast<double>(worst) * 1e-3,
-        pct(first, 0), pct(first, 1), pct(first, 2), pct(first, 3));
+        first[0], first[1], first[2], first[3]);
     if (threads > 1) {
         for (unsigned c = 1; c < threads; ++c) {
-            const auto one = all.subspan(c, 1);
+            const std::array<double, 4>& p = thread_pct[c];
             std::printf(
                 "sched-gaps: thread on CPU %u: instants delayed > 10/20/50/100 us: "
                 "%.2f/%.2f/%.3f/%.3f %%\n",
-                c, pct(one, 0), pct(one, 1), pct(one, 2), pct(one, 3));
+                c, p[0], p[1], p[2], p[3]);
         }
         // What independent CPUs would give: the product of the threads' shares.
         double independent = 1;
-        for (unsigned c = 0; c < threads; ++c) {
-            independent *= pct(all.subspan(c, 1), 1) / 100.0;
-        }
+        for (const auto& p : thread_pct) independent *= p[1] / 100.0;
         std::printf(
             "sched-gaps: all %u threads at once: instants delayed > 10/20/50/100 us: "
             "%.2f/%.2f/%.3f/%.3f %% (> 20 us if the CPUs were held off independently: %.4f %%)\n",
-            threads, pct(all, 0), pct(all, 1), pct(all, 2), pct(all, 3), 100.0 * independent);
+            threads, all_pct[0], all_pct[1], all_pct[2], all_pct[3], 100.0 * independent);
     }
     if (!json.empty()) {
         std::ofstream f(json);
         f << "{\"seconds\": " << span * 1e-9 << ", \"threads\": " << threads
           << ", \"gaps_per_s_over_20us\": " << rate(1) << ", \"gaps_per_s_over_50us\": " << rate(2)
           << ", \"worst_us\": " << static_cast<double>(worst) * 1e-3
-          << ", \"delayed_pct_over_10us\": " << pct(first, 0)
-          << ", \"delayed_pct_over_20us\": " << pct(first, 1)
-          << ", \"delayed_pct_over_50us\": " << pct(first, 2)
-          << ", \"all_threads_delayed_pct_over_20us\": " << pct(all, 1)
-          << ", \"all_threads_delayed_pct_over_50us\": " << pct(all, 2) << "}\n";
+          << ", \"delayed_pct_over_10us\": " << first[0]
+          << ", \"delayed_pct_over_20us\": " << first[1]
+          << ", \"delayed_pct_over_50us\": " << first[2]
+          << ", \"all_threads_delayed_pct_over_20us\": " << all_pct[1]
+          << ", \"all_threads_delayed_pct_over_50us\": " << all_pct[2] << "}\n";
         if (!f) {
             std::fprintf(stderr, "mirage-sched-gaps: cannot write %s\n", json.c_str());
             return 1;
