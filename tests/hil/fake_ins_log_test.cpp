@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Nav-log replay with the log's timing: rst39.log onto a pty read back with mirage::nmea, a
 // candump log onto a memory CAN bus, a NovAtel log over UDP; every message's arrival against the
-// log's schedule (within 2 ms), and `mirage fake-ins --log` end to end.
+// log's schedule (quantiles of the error), and `mirage fake-ins --log` end to end.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,8 +25,9 @@ namespace mirage::test {
 namespace {
 
 // Timing bounds prove the log's schedule is followed (messages 10-100 ms apart arrive paced, not
-// dumped or stretched) without failing on a loaded CI machine: the replay's accuracy is a
-// figure (printed here; a quiet machine gives < 1 ms), not a pass/fail condition of a test.
+// dumped or stretched) without failing on a loaded CI machine: they bound quantiles, never the
+// worst message; the replay's accuracy is a figure (printed here; a quiet machine gives < 1 ms),
+// not a pass/fail condition of a test.
 constexpr std::int64_t kTolNs = 5'000'000;
 constexpr std::int64_t kLeadNs = 100'000'000;  // replay starts 100 ms after the call
 
@@ -88,38 +89,40 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     const hil::ReplayTotals tot = sender.get();
     ASSERT_EQ(got.size(), want.size());
     // Inter-message timing against the log's (what a reader sees), and the absolute error.
-    std::int64_t worst = 0, worst_abs = 0;
-    std::vector<std::int64_t> errs;
+    std::vector<std::int64_t> errs, abs_errs;
     for (std::size_t i = 0; i < want.size(); ++i) {
         ASSERT_EQ(got[i].first, want[i].first) << "sentence " << i;
-        worst_abs = std::max<std::int64_t>(worst_abs, std::llabs(got[i].second - want[i].second));
+        abs_errs.push_back(std::llabs(got[i].second - want[i].second));
         if (i == 0) continue;
         errs.push_back(std::llabs((got[i].second - got[i - 1].second) -
                                   (want[i].second - want[i - 1].second)));
-        worst = std::max(worst, errs.back());
     }
     std::sort(errs.begin(), errs.end());
+    std::sort(abs_errs.begin(), abs_errs.end());
     const std::int64_t p99 = errs[errs.size() * 99 / 100];
-    std::printf("rst39 replay: %llu messages, %.3f s of log, inter-message error p99 %.3f ms, "
-                "worst %.3f ms, worst absolute %.3f ms, worst send lateness %.3f ms\n",
-                static_cast<unsigned long long>(tot.messages), double(tot.span_ns) * 1e-9,
-                double(p99) * 1e-6, double(worst) * 1e-6, double(worst_abs) * 1e-6,
-                double(tot.worst_late_ns) * 1e-6);
+    const std::int64_t abs_p50 = abs_errs[abs_errs.size() / 2];
+    std::printf(
+        "rst39 replay: %llu messages, %.3f s of log, inter-message error p99 %.3f ms, "
+        "worst %.3f ms, absolute error p50 %.3f ms, worst %.3f ms, worst send lateness "
+        "%.3f ms\n",
+        static_cast<unsigned long long>(tot.messages), double(tot.span_ns) * 1e-9,
+        double(p99) * 1e-6, double(errs.back()) * 1e-6, double(abs_p50) * 1e-6,
+        double(abs_errs.back()) * 1e-6, double(tot.worst_late_ns) * 1e-6);
     EXPECT_EQ(tot.span_ns, 4'000'000'000);
     EXPECT_EQ(tot.write_failures, 0u);
-    // The replay's own writes start within 2 ms of their deadlines; what the reader sees adds the
-    // kernel's pty delivery and the reader's wake-up: p99 within 2 ms, a rare outlier on a
-    // loaded machine within 5 ms.
-    EXPECT_LT(tot.worst_late_ns, kTolNs);
+    // What the reader sees adds the kernel's pty delivery and the reader's wake-up to the
+    // replay's own lateness. Quantiles, not the worst case: a stall of this VM (up to 20 ms seen)
+    // delays the messages due during it and fails no test. p99 of the intervals: paced, not
+    // dumped; median absolute error: not stretched (sleeping each interval instead adds every
+    // wake-up's overshoot to all later messages: p50 19 ms when tried).
     EXPECT_LT(p99, kTolNs);
-    EXPECT_LT(worst, 2 * kTolNs);
+    EXPECT_LT(abs_p50, 1'000'000);
     // mirage::nmea decodes the read-back stream exactly as it decoded the file.
     nmea::NmeaDecoder d;
     d.set_date_hint(*nmea::make_date(2014, 2, 19));
     std::uint64_t timed = 0;
-    d.feed(std::string_view(all), [&](const nav::NavSample& s) {
-        timed += s.has(nav::NavSample::kTime) ? 1 : 0;
-    });
+    d.feed(std::string_view(all),
+           [&](const nav::NavSample& s) { timed += s.has(nav::NavSample::kTime) ? 1 : 0; });
     EXPECT_EQ(timed, log.samples.size());
     EXPECT_EQ(d.counters().rejected(), 0u);
 }
@@ -127,7 +130,7 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
 TEST(NavLogReplay, candump_log_onto_a_memory_bus_gives_the_same_frames_on_the_log_schedule) {
     TempDir dir;
     const std::string path = dir.file("can.log");
-    // 120 frames over 1.2 s at irregular intervals (bursts of three 0.2 ms apart, 10-30 ms gaps).
+    // 120 frames over 0.8 s at irregular intervals (bursts of three 0.2 ms apart, 10-30 ms gaps).
     std::vector<nav::StampedCanFrame> sent;
     {
         navcan::CandumpWriter w(path);
@@ -152,28 +155,37 @@ TEST(NavLogReplay, candump_log_onto_a_memory_bus_gives_the_same_frames_on_the_lo
     auto sender = std::async(std::launch::async, [&] {
         return hil::replay_nav_log(log, nullptr, tx.get(), 1.0, stop, start);
     });
-    std::int64_t worst = 0, prev_host = 0;
-    std::size_t n = 0;
+    // Each frame's lateness against its deadline: the memory bus stamps a frame when it is sent,
+    // on the same monotonic clock as `start`, so the receiver's own wake-ups do not enter.
+    std::vector<std::int64_t> late;
     const std::int64_t give_up = start + 5'000'000'000;
-    while (n < sent.size() && bytestream::monotonic_ns() < give_up) {
+    while (late.size() < sent.size() && bytestream::monotonic_ns() < give_up) {
         nav::CanFrame f;
         std::int64_t host_ns = 0;
         if (rx->receive(f, host_ns, std::chrono::milliseconds(100)) != can::RxStatus::Frame)
             continue;
+        const std::size_t n = late.size();
         ASSERT_EQ(f, sent[n].frame) << "frame " << n;
-        // Inter-frame timing against the log's.
-        if (n > 0)
-            worst = std::max<std::int64_t>(
-                worst, std::llabs((host_ns - prev_host) - (sent[n].time_ns - sent[n - 1].time_ns)));
-        prev_host = host_ns;
-        ++n;
+        late.push_back(host_ns - (start + (sent[n].time_ns - sent.front().time_ns)));
     }
     const hil::ReplayTotals tot = sender.get();
-    std::printf("candump replay: %zu frames over %.3f s, worst inter-frame error %.3f ms\n", n,
-                double(tot.span_ns) * 1e-9, double(worst) * 1e-6);
-    EXPECT_EQ(n, sent.size());
+    ASSERT_EQ(late.size(), sent.size());
     EXPECT_EQ(tot.span_ns, sent.back().time_ns - sent.front().time_ns);
-    EXPECT_LT(worst, kTolNs);
+    // Never before its deadline (a dump would send everything at once): exact, no timing margin.
+    for (std::size_t i = 0; i < late.size(); ++i) EXPECT_GE(late[i], 0) << "frame " << i;
+    // Absolute deadlines: a stall of the machine delays the frames due during it, not the ones
+    // after, so most frames are on time. Sleeping each interval instead adds every wake-up's
+    // overshoot to all later frames (p50 9.6 ms, p90 17 ms when tried).
+    std::vector<std::int64_t> sorted = late;
+    std::sort(sorted.begin(), sorted.end());
+    const std::int64_t p50 = sorted[sorted.size() / 2], p90 = sorted[sorted.size() * 9 / 10];
+    std::printf(
+        "candump replay: %zu frames over %.3f s, lateness p50 %.3f ms, p90 %.3f ms, "
+        "max %.3f ms\n",
+        late.size(), double(tot.span_ns) * 1e-9, double(p50) * 1e-6, double(p90) * 1e-6,
+        double(sorted.back()) * 1e-6);
+    EXPECT_LT(p50, 1'000'000);
+    EXPECT_LT(p90, kTolNs);
 }
 
 TEST(NavLogReplay, speed_factor_compresses_the_schedule) {
@@ -203,8 +215,15 @@ TEST(NavLogReplay, speed_factor_compresses_the_schedule) {
     }
     (void)sender.get();
     ASSERT_EQ(at.size(), 11u);
-    for (std::size_t i = 0; i < at.size(); ++i)
-        EXPECT_NEAR(double(at[i]), double(i) * 10'000'000.0, double(kTolNs)) << i;  // 40 ms / 4
+    // Due every 40 ms / 4: never early, and the median frame on time (at 1× it would be 150 ms
+    // late; a stall of the machine delays only the frames due during it).
+    std::vector<std::int64_t> late;
+    for (std::size_t i = 0; i < at.size(); ++i) {
+        late.push_back(at[i] - std::int64_t(i) * 10'000'000);
+        EXPECT_GE(late.back(), 0) << "frame " << i;
+    }
+    std::sort(late.begin(), late.end());
+    EXPECT_LT(late[late.size() / 2], 1'000'000);
 }
 
 TEST(NavLogReplay, fake_ins_log_cli_replays_and_reports_totals) {
