@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "gap_overlap.hpp"
+#include "gap_period.hpp"
 
 namespace {
 
@@ -123,6 +124,17 @@ int main(int argc, char** argv) {
         "%.1f us; instants delayed > 10/20/50/100 us: %.2f/%.2f/%.3f/%.3f %%\n",
         span * 1e-9, rate(0), rate(1), rate(2), rate(3), static_cast<double>(worst) * 1e-3,
         first[0], first[1], first[2], first[3]);
+    // Of the first thread's gaps: the 20 µs threshold is the replay target's.
+    const mirage::hil::GapPeriod period = mirage::hil::gap_period(gaps[0], kThresholds[1]);
+    if (period.period_ns > 0)
+        std::printf(
+            "sched-gaps: %zu gaps > 20 us; most common spacing %.3f ms (%.0f %% of the spacings "
+            "within ~10 us of it); %.0f %% of the gaps at one phase of it (a tenth of the period "
+            "wide: ~10 %% for gaps at random times)\n",
+            period.gaps, period.period_ns * 1e-6, 100.0 * period.spacing_share,
+            100.0 * period.phase_share);
+    else
+        std::printf("sched-gaps: %zu gaps > 20 us: too few for a period\n", period.gaps);
     if (threads > 1) {
         for (unsigned c = 1; c < threads; ++c) {
             const std::array<double, 4>& p = thread_pct[c];
@@ -148,7 +160,9 @@ int main(int argc, char** argv) {
           << ", \"delayed_pct_over_20us\": " << first[1]
           << ", \"delayed_pct_over_50us\": " << first[2]
           << ", \"all_threads_delayed_pct_over_20us\": " << all_pct[1]
-          << ", \"all_threads_delayed_pct_over_50us\": " << all_pct[2] << "}\n";
+          << ", \"all_threads_delayed_pct_over_50us\": " << all_pct[2]
+          << ", \"gap_period_ms_over_20us\": " << period.period_ns * 1e-6
+          << ", \"gap_phase_share_pct_over_20us\": " << 100.0 * period.phase_share << "}\n";
         if (!f) {
             std::fprintf(stderr, "mirage-sched-gaps: cannot write %s\n", json.c_str());
             return 1;
