@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
     if (period.period_ns > 0)
         std::printf(
             "sched-gaps: %zu gaps > 20 us; most common spacing %.3f ms (%.0f %% of the spacings "
-            "within ~10 us of it); %.0f %% of the gaps at one phase of it (a tenth of the period "
+            "within ~15 us of it); %.0f %% of the gaps at one phase of it (a tenth of the period "
             "wide: ~10 %% for gaps at random times)\n",
             period.gaps, period.period_ns * 1e-6, 100.0 * period.spacing_share,
             100.0 * period.phase_share);
