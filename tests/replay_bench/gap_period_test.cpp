@@ -64,6 +64,11 @@ TEST(GapPeriod, TooFewGapsGiveNoPeriod) {
     EXPECT_EQ(p.gaps, 2u);
     EXPECT_EQ(p.period_ns, 0.0);
     EXPECT_EQ(p.phase_share, 0.0);
+    // Three gaps, but spaced beyond the 100 ms the spacings are binned over.
+    const GapPeriod sparse =
+        gap_period({{0, 50'000}, {200'000'000, 200'050'000}, {400'000'000, 400'050'000}}, 20'000);
+    EXPECT_EQ(sparse.gaps, 3u);
+    EXPECT_EQ(sparse.period_ns, 0.0);
 }
 
 }  // namespace
