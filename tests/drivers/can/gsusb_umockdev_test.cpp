@@ -64,7 +64,7 @@ class GsUsbUmockdev : public ::testing::Test {
             GTEST_SKIP() << "not under umockdev-wrapper (LD_PRELOAD of libumockdev-preload); "
                             "run via ctest or `umockdev-wrapper <test>`";
         testbed_ = umockdev_testbed_new();
-        const auto desc = mirage::test::source_dir() / "tests/gsusb/candlelight.umockdev";
+        const auto desc = mirage::test::source_dir() / "tests/drivers/can/candlelight.umockdev";
         GError* error = nullptr;
         ASSERT_TRUE(umockdev_testbed_add_from_file(testbed_, desc.c_str(), &error))
             << (error ? error->message : "?");

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "../pcap/raw_pcap.hpp"
+#include "raw_pcap.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/replay/impairer.hpp"
 #include "mirage/replay/options.hpp"
