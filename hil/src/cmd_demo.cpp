@@ -9,9 +9,9 @@
 
 #include "commands.hpp"
 #include "job.hpp"
-#include "las_sink.hpp"
 #include "mirage/core/trajectory.hpp"
 #include "mirage/image/preview.hpp"
+#include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
 #include "progress.hpp"
 #include "summary.hpp"
@@ -93,7 +93,7 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     std::vector<core::PointRecord> points;
     // Reserve up front: growing a multi-gigabyte vector while rendering stalls the writer thread.
     points.reserve(job.sensor.scan->pulse_count(job.options.duration));
-    LasSink sink(writer, &points);
+    las::LasSink sink(writer, &points);
     fmt::print("\n== {}: {} along {} for {} s ==\n", run.name, run.sensor, run.trajectory,
                run.seconds);
     ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));

@@ -13,8 +13,9 @@
 #include "job.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
-#include "packet_output.hpp"
-#include "packetizer_factory.hpp"
+#include "mirage/output/packet_output.hpp"
+#include "mirage/output/packetizer_sink.hpp"
+#include "mirage/wire/setup.hpp"
 #include "stop_signal.hpp"
 #include "summary.hpp"
 #include "text_file.hpp"
@@ -49,7 +50,7 @@ void register_emulate(CLI::App& app) {
         std::string pose;
         std::string to;
         std::uint16_t data_port = 0, position_port = 8308, imu_port = 7503, source_port = 0;
-        WireOptions wire;
+        wire::WireOptions wire;
         double rpm = 0;
         std::string pcap;
         std::string calibration_out;
@@ -115,27 +116,27 @@ void register_emulate(CLI::App& app) {
         if (in.start.empty() && !csv) in.start = gps_now_spec();
 
         Job job = load_job(in);
-        prepare_sensor(job, o->wire, o->rpm);
-        if (!o->afap) set_render_lead(job, kEmulateRenderLead);
-        const bool ouster = is_ouster(job.sensor.name);
+        wire::prepare_sensor(job.sensor, o->wire, o->rpm);
+        if (!o->afap) set_render_lead(job, output::kEmulateRenderLead);
+        const bool ouster = job.sensor.wire.family == sensor::WireFamily::Ouster;
 
-        PacketOutputOptions po;
+        output::PacketOutputOptions po;
         po.realtime = !o->afap;
         po.status_line = !o->no_status;
         po.fifo_priority = o->rt_priority;
-        po.start_lead = kEmulateStartLead;
+        po.start_lead = output::kEmulateStartLead;
         po.pcap_path = o->pcap;
         const udp::StreamPorts ports =
-            sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
-        route_streams(po, ports, o->to, o->source_port);
+            output::sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
+        output::route_streams(po, ports, o->to, o->source_port);
         // The encoder first: it checks the model's settings (rpm range, profile) before any
         // socket or file is opened.
-        WireOptions wo = o->wire;
+        wire::WireOptions wo = o->wire;
         wo.position_packets = ports.position != 0;
         wo.imu_packets = ports.imu != 0;
-        std::optional<PacketOutput> out;
-        WireSetup w = make_wire(
-            job, wo, [&out](const wire::PacketView& p) { (*out)(p); }, o->to);
+        std::optional<output::PacketOutput> out;
+        wire::WireSetup w = wire::make_wire(
+            wire_context(job), wo, [&out](const wire::PacketView& p) { (*out)(p); }, o->to);
         out.emplace(po);
         std::string side = o->calibration_out;
         if (side.empty() && !o->pcap.empty()) side = default_side_path(o->pcap, w.side_file_ext);
@@ -148,11 +149,11 @@ void register_emulate(CLI::App& app) {
             o->pcap.empty() ? "" : (" + " + o->pcap).c_str(), w.packets_per_second,
             forever ? ", until Ctrl-C" : "");
         const auto& stop = install_stop_signal();
-        PacketizerSink sink(*w.packetizer);
+        output::PacketizerSink sink(*w.packetizer);
         const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
                                           job.mount, job.env, job.options, sink, {}, &stop);
         w.packetizer->finish();
-        const PacketOutputTotals t = out->finish();
+        const output::PacketOutputTotals t = out->finish();
         std::printf(
             "mirage emulate: %llu packets (%.2f MB) in %.3f s, %llu points from %llu pulses; "
             "sent %llu, failed sends %llu, pcap %llu; lateness p50 %.0f µs, p99 %.0f µs, worst "

@@ -11,14 +11,14 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "fake_ins.hpp"
 #include "job.hpp"
-#include "nav_log.hpp"
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/navcan/slcan.hpp"
+#include "mirage/navio/fake_ins.hpp"
 #include "mirage/navpose/nav_frame.hpp"
+#include "mirage/navproto/nav_log.hpp"
 #include "stop_signal.hpp"
 
 namespace mirage::hil {
@@ -140,18 +140,18 @@ void register_fake_ins(CLI::App& app) {
     cmd->add_option("--corrupt-every", o->corrupt_every,
                     "Fault: flip a byte in every N-th message (serial/UDP protocols)");
     cmd->callback([o] {
-        const NavProtocol proto = parse_nav_protocol(o->protocol);
+        const navproto::NavProtocol proto = navproto::parse_nav_protocol(o->protocol);
         if (!(o->rate > 0 && o->rate <= 1000))
             throw ConfigError("fake-ins: --rate must be in (0, 1000] Hz");
         if (o->log.empty() == o->job.trajectory.empty())
             throw ConfigError("fake-ins: give --trajectory or --log (one of them)");
-        std::optional<NavLog> log;
+        std::optional<navproto::NavLog> log;
         std::optional<Job> job;
         if (!o->log.empty()) {
-            NavLogOptions lo;
+            navproto::NavLogOptions lo;
             lo.nmea_date = o->nav_date;
-            log = read_nav_log(o->log, proto, lo);
-            std::printf("fake-ins: %s\n", nav_log_summary(*log).c_str());
+            log = navproto::read_nav_log(o->log, proto, lo);
+            std::printf("fake-ins: %s\n", navproto::nav_log_summary(*log).c_str());
             if (log->stats.messages == 0)
                 throw ConfigError("fake-ins: nav log '" + o->log + "': nothing to replay");
         } else {
@@ -160,7 +160,7 @@ void register_fake_ins(CLI::App& app) {
             auto scene = load_scene_timed(in.scene, scene_s);
             job.emplace(load_job_with_scene(in, scene, scene_s, false));
         }
-        FakeInsConfig fc;
+        navio::FakeInsConfig fc;
         fc.protocol = proto;
         fc.rate_hz = o->rate;
         if (!o->duration.empty()) fc.duration = parse_seconds(o->duration, "--duration");
@@ -179,26 +179,31 @@ void register_fake_ins(CLI::App& app) {
         std::string where;
         const std::string& to = o->to;
         if (to.rfind("memory", 0) == 0)
-            throw ConfigError("fake-ins: a memory: bus lives in one process; use `mirage live "
-                              "--nav oxts-can:memory:x --fake-ins TRAJ`");
+            throw ConfigError(
+                "fake-ins: a memory: bus lives in one process; use `mirage live "
+                "--nav oxts-can:memory:x --fake-ins TRAJ`");
         if (to == "pty" || to.rfind("pty:", 0) == 0) {
-            if (is_can(proto)) throw ConfigError("fake-ins: CAN protocols need slcan-pty or a bus");
+            if (navproto::is_can(proto))
+                throw ConfigError("fake-ins: CAN protocols need slcan-pty or a bus");
             auto pty = bytestream::open_pty();
             where = pty.slave_path;
             make_link(link_of(to, "pty"), where);
             stream = std::move(pty.master);
         } else if (to == "slcan-pty" || to.rfind("slcan-pty:", 0) == 0) {
-            if (!is_can(proto)) throw ConfigError("fake-ins: slcan-pty carries CAN protocols only");
+            if (!navproto::is_can(proto))
+                throw ConfigError("fake-ins: slcan-pty carries CAN protocols only");
             auto pty = bytestream::open_pty();
             where = pty.slave_path;
             make_link(link_of(to, "slcan-pty"), where);
             bus = std::make_unique<SlcanDevice>(std::move(pty));
         } else if (to.rfind("udp://", 0) == 0) {
-            if (is_can(proto)) throw ConfigError("fake-ins: CAN protocols need a CAN transport");
-            stream = bytestream::open_byte_stream(to + (to.find('?') == std::string::npos ? "?send" : "&send"));
+            if (navproto::is_can(proto))
+                throw ConfigError("fake-ins: CAN protocols need a CAN transport");
+            stream = bytestream::open_byte_stream(
+                to + (to.find('?') == std::string::npos ? "?send" : "&send"));
             where = to;
         } else {
-            if (!is_can(proto))
+            if (!navproto::is_can(proto))
                 throw ConfigError("fake-ins: unknown --to '" + to + "' for " + o->protocol);
             bus = can::open_can_bus(to);
             where = to;
@@ -208,39 +213,39 @@ void register_fake_ins(CLI::App& app) {
             std::printf("fake-ins: replaying %s (%s) on %s at %gx\n", o->log.c_str(),
                         o->protocol.c_str(), where.c_str(), o->speed);
             std::fflush(stdout);
-            const ReplayTotals r = replay_nav_log(
+            const navio::ReplayTotals r = navio::replay_nav_log(
                 *log, stream.get(), bus.get(), o->speed, stop,
                 bytestream::monotonic_ns() + 200'000'000);  // 200 ms for a reader to attach
-            std::printf("fake-ins: replayed %llu messages, %llu bytes, %.3f s of log, %llu "
-                        "failed writes, worst lateness %.0f us%s\n",
-                        static_cast<unsigned long long>(r.messages),
-                        static_cast<unsigned long long>(r.bytes), double(r.span_ns) * 1e-9,
-                        static_cast<unsigned long long>(r.write_failures),
-                        double(r.worst_late_ns) * 1e-3, r.interrupted ? " (interrupted)" : "");
+            std::printf(
+                "fake-ins: replayed %llu messages, %llu bytes, %.3f s of log, %llu "
+                "failed writes, worst lateness %.0f us%s\n",
+                static_cast<unsigned long long>(r.messages),
+                static_cast<unsigned long long>(r.bytes), double(r.span_ns) * 1e-9,
+                static_cast<unsigned long long>(r.write_failures), double(r.worst_late_ns) * 1e-3,
+                r.interrupted ? " (interrupted)" : "");
             return;
         }
         const navpose::NavFrame frame = navpose::NavFrame::from_georef(job->scene->georef);
-        const core::GpsTime t0 = fake_ins_start(o->rate, std::chrono::milliseconds(200));
+        const core::GpsTime t0 = navio::fake_ins_start(o->rate, std::chrono::milliseconds(200));
         std::printf("fake-ins: %s on %s t0 gps:%lld.%09lld\n", o->protocol.c_str(), where.c_str(),
                     static_cast<long long>(t0.time_since_epoch().count() / 1'000'000'000),
                     static_cast<long long>(t0.time_since_epoch().count() % 1'000'000'000));
         std::fflush(stdout);
-        FakeIns ins(job->trajectory, frame, fc);
-        const FakeInsTotals t = ins.run(stream.get(), bus.get(), t0, stop);
-        std::printf("fake-ins: %llu epochs, %llu messages, %llu bytes, %llu failed writes, %llu "
-                    "epochs skipped behind a blocked output\n",
-                    static_cast<unsigned long long>(t.epochs),
-                    static_cast<unsigned long long>(t.messages),
-                    static_cast<unsigned long long>(t.bytes),
-                    static_cast<unsigned long long>(t.write_failures),
-                    static_cast<unsigned long long>(t.skipped));
-        std::printf("fake-ins: faults: %llu epochs silenced, %llu jumps, %llu backwards, %llu NaN, "
-                    "%llu corrupted messages\n",
-                    static_cast<unsigned long long>(t.silenced),
-                    static_cast<unsigned long long>(t.jumps),
-                    static_cast<unsigned long long>(t.backwards),
-                    static_cast<unsigned long long>(t.nans),
-                    static_cast<unsigned long long>(t.corrupted));
+        navio::FakeIns ins(job->trajectory, frame, fc);
+        const navio::FakeInsTotals t = ins.run(stream.get(), bus.get(), t0, stop);
+        std::printf(
+            "fake-ins: %llu epochs, %llu messages, %llu bytes, %llu failed writes, %llu "
+            "epochs skipped behind a blocked output\n",
+            static_cast<unsigned long long>(t.epochs), static_cast<unsigned long long>(t.messages),
+            static_cast<unsigned long long>(t.bytes),
+            static_cast<unsigned long long>(t.write_failures),
+            static_cast<unsigned long long>(t.skipped));
+        std::printf(
+            "fake-ins: faults: %llu epochs silenced, %llu jumps, %llu backwards, %llu NaN, "
+            "%llu corrupted messages\n",
+            static_cast<unsigned long long>(t.silenced), static_cast<unsigned long long>(t.jumps),
+            static_cast<unsigned long long>(t.backwards), static_cast<unsigned long long>(t.nans),
+            static_cast<unsigned long long>(t.corrupted));
     });
 }
 

@@ -9,18 +9,18 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "fake_ins.hpp"
 #include "job.hpp"
 #include "live_loop.hpp"
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/core/trajectory.hpp"
+#include "mirage/navio/fake_ins.hpp"
+#include "mirage/navio/nav_input.hpp"
+#include "mirage/navio/nav_recorder.hpp"
+#include "mirage/output/packet_output.hpp"
 #include "mirage/udp/pacer.hpp"
-#include "nav_input.hpp"
-#include "nav_recorder.hpp"
-#include "packet_output.hpp"
-#include "packetizer_factory.hpp"
+#include "mirage/wire/setup.hpp"
 #include "stop_signal.hpp"
 
 namespace mirage::hil {
@@ -52,7 +52,7 @@ void register_live(CLI::App& app) {
         std::string nav;
         std::string to;
         std::uint16_t data_port = 0, position_port = 8308, imu_port = 7503;
-        WireOptions wire;
+        wire::WireOptions wire;
         double rpm = 0;
         std::string pcap;
         std::string duration;
@@ -133,10 +133,10 @@ void register_live(CLI::App& app) {
         in.trajectory = "static:0,0,0";
         in.duration = "1";
         Job job = load_job(in);
-        prepare_sensor(job, o->wire, o->rpm);
-        const bool ouster = is_ouster(job.sensor.name);
+        wire::prepare_sensor(job.sensor, o->wire, o->rpm);
+        const bool ouster = job.sensor.wire.family == sensor::WireFamily::Ouster;
         const navpose::NavFrame frame = make_frame(job, o->nav_origin);
-        const NavUri uri = parse_nav_uri(o->nav);
+        const navproto::NavUri uri = navproto::parse_nav_uri(o->nav);
 
         navpose::PoseBufferConfig pc;
         pc.max_extrapolation =
@@ -157,7 +157,7 @@ void register_live(CLI::App& app) {
             fi.duration.clear();
             fake_traj = std::make_unique<core::Trajectory>(
                 load_job_with_scene(fi, job.scene, 0, false).trajectory);
-            if (is_can(uri.protocol))
+            if (navproto::is_can(uri.protocol))
                 fake_bus = can::open_can_bus(uri.transport);
             else
                 throw ConfigError(
@@ -166,21 +166,22 @@ void register_live(CLI::App& app) {
         }
         // Recorders: opened before the nav thread starts, closed after it stops; a write error
         // fails the command at the end (the files keep whole lines only).
-        std::unique_ptr<PoseLog> pose_log;
-        std::unique_ptr<NavRecorder> nav_record;
-        if (!o->pose_log.empty()) pose_log = std::make_unique<PoseLog>(o->pose_log);
+        std::unique_ptr<navio::PoseLog> pose_log;
+        std::unique_ptr<navio::NavRecorder> nav_record;
+        if (!o->pose_log.empty()) pose_log = std::make_unique<navio::PoseLog>(o->pose_log);
         if (!o->nav_record.empty())
-            nav_record = std::make_unique<NavRecorder>(
-                o->nav_record, is_can(uri.protocol)
-                                   ? (o->nav_record_ifname.empty() ? candump_ifname(uri.transport)
-                                                                   : o->nav_record_ifname)
-                                   : std::string());
-        NavInputOptions nio;
+            nav_record = std::make_unique<navio::NavRecorder>(
+                o->nav_record,
+                navproto::is_can(uri.protocol)
+                    ? (o->nav_record_ifname.empty() ? navio::candump_ifname(uri.transport)
+                                                    : o->nav_record_ifname)
+                    : std::string());
+        navio::NavInputOptions nio;
         nio.undulation_m = o->undulation_m;
         nio.nmea_date = o->nav_date;
         nio.pose_log = pose_log.get();
         nio.record = nav_record.get();
-        NavInput nav(uri, frame, poses, nio);
+        navio::NavInput nav(uri, frame, poses, nio);
         // Stops the nav thread, closes the recorders and reports them; throws the first write
         // error. Runs on every way out after the first pose wait (normal end, SIGINT).
         const auto finish_recording = [&] {
@@ -212,18 +213,18 @@ void register_live(CLI::App& app) {
         };
         nav.start();
         if (fake_traj) {
-            FakeInsConfig fc;
+            navio::FakeInsConfig fc;
             fc.protocol = uri.protocol;
             fc.rate_hz = o->fake_ins_rate;
             const core::GpsTime fake_t0 =
-                fake_ins_start(o->fake_ins_rate, std::chrono::milliseconds(200));
+                navio::fake_ins_start(o->fake_ins_rate, std::chrono::milliseconds(200));
             std::printf("fake-ins: %s in-process on %s t0 gps:%lld.%09lld\n",
                         to_string(uri.protocol).c_str(), uri.transport.c_str(),
                         static_cast<long long>(fake_t0.time_since_epoch().count() / 1'000'000'000),
                         static_cast<long long>(fake_t0.time_since_epoch().count() % 1'000'000'000));
             std::fflush(stdout);
             fake_thread = std::thread([&, frame, fc, fake_t0] {
-                FakeIns ins(*fake_traj, frame, fc);
+                navio::FakeIns ins(*fake_traj, frame, fc);
                 ins.run(nullptr, fake_bus.get(), fake_t0, fake_stop);
             });
         }
@@ -268,22 +269,22 @@ void register_live(CLI::App& app) {
         const std::int64_t t0 = (ins_now / 1'000'000 + 20) * 1'000'000;
         job.options.start = core::GpsTime(core::Nanos(t0));
 
-        PacketOutputOptions po;
+        output::PacketOutputOptions po;
         po.realtime = true;
         po.status_line = false;
         po.fifo_priority = o->rt_priority;
         po.pcap_path = o->pcap;
         const udp::StreamPorts ports =
-            sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
-        route_streams(po, ports, o->to);
-        WireOptions wo = o->wire;
+            output::sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
+        output::route_streams(po, ports, o->to);
+        wire::WireOptions wo = o->wire;
         wo.position_packets = ports.position != 0;
         wo.imu_packets = ports.imu != 0;
-        std::optional<PacketOutput> out;
+        std::optional<output::PacketOutput> out;
         std::uint64_t packets = 0, bytes = 0;
         std::int64_t first_send = 0;
-        WireSetup w = make_wire(
-            job, wo,
+        wire::WireSetup w = wire::make_wire(
+            wire_context(job), wo,
             [&](const wire::PacketView& p) {
                 (*out)(p);
                 ++packets;
@@ -311,7 +312,7 @@ void register_live(CLI::App& app) {
         LiveTotals t = run_live(job, *w.packetizer, *out, window, nav, poses, lo, stop, packets,
                                 bytes, first_send);
         w.packetizer->finish();
-        const PacketOutputTotals pt = out->finish();
+        const output::PacketOutputTotals pt = out->finish();
         nav.stop();
         const auto nc = nav.counters();
         const auto dc = nav.decode_counters();

@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "job.hpp"
-#include "las_sink.hpp"
+#include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
 #include "progress.hpp"
 #include "summary.hpp"
@@ -39,7 +39,7 @@ void register_render(CLI::App& app) {
         lo.file_source_id = job.sensor.point_source_id;
         las::install_signal_finalizer();
         las::LasWriter writer(opts->out, job.scene->georef, lo);
-        LasSink sink(writer);
+        las::LasSink sink(writer);
         ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
         const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
                                           job.mount, job.env, job.options, sink,

@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "mirage/core/error.hpp"
+#include "mirage/navproto/nav_log.hpp"
 #include "mirage/scene/demo_town.hpp"
 #include "mirage/scene/loader.hpp"
-#include "nav_log.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -47,6 +47,10 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 }
 
 }  // namespace
+
+wire::WireContext wire_context(const Job& job) {
+    return {job.sensor, *job.scene, job.trajectory, job.mount, job.options.start};
+}
 
 void set_render_lead(Job& job, core::Nanos lead) {
     job.options.window_chunks = render::chunks_for_lead(job.sensor, job.options.chunk_pulses, lead);
@@ -171,30 +175,32 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
         in.duration.empty() ? core::Nanos(0) : parse_seconds(in.duration, "--duration");
     if (!in.start.empty()) start = core::parse_time(in.start);
     if (!in.nav_log.empty()) {
-        if (!tspec.empty()) throw ConfigError("--nav-log: give --trajectory or --nav-log, not both");
-        const NavProtocol proto = parse_nav_protocol(in.nav_protocol);
+        if (!tspec.empty())
+            throw ConfigError("--nav-log: give --trajectory or --nav-log, not both");
+        const navproto::NavProtocol proto = navproto::parse_nav_protocol(in.nav_protocol);
         navpose::NavFrame frame = navpose::NavFrame::tangent_plane(0, 0, 0);
         if (!in.nav_origin.empty()) {
-            frame = parse_nav_origin(in.nav_origin);
+            frame = navproto::parse_nav_origin(in.nav_origin);
         } else {
             try {
                 frame = navpose::NavFrame::from_georef(job.scene->georef);
             } catch (const ConfigError& e) {
-                throw ConfigError(fmt::format("--nav-log: {} (or give --nav-origin lat,lon,h)",
-                                              e.what()));
+                throw ConfigError(
+                    fmt::format("--nav-log: {} (or give --nav-origin lat,lon,h)", e.what()));
             }
         }
-        NavLogOptions lo;
+        navproto::NavLogOptions lo;
         lo.nmea_date = in.nav_date;
-        const NavLog log = read_nav_log(in.nav_log, proto, lo);
-        std::fprintf(stderr, "%s\n", nav_log_summary(log).c_str());
-        NavTrackOptions to;
+        const navproto::NavLog log = navproto::read_nav_log(in.nav_log, proto, lo);
+        std::fprintf(stderr, "%s\n", navproto::nav_log_summary(log).c_str());
+        navproto::NavTrackOptions to;
         to.undulation_m = in.nav_undulation_m;
-        to.interpolation = in.interpolation == "linear" ? core::Interpolation::Linear
-                                                        : core::Interpolation::Cubic;
-        NavTrackStats ts;
-        job.trajectory = nav_log_trajectory(log, frame, to, &ts);
-        std::fprintf(stderr, "nav log: %llu positions, %llu attitudes%s -> %llu poses over %.3f s\n",
+        to.interpolation =
+            in.interpolation == "linear" ? core::Interpolation::Linear : core::Interpolation::Cubic;
+        navproto::NavTrackStats ts;
+        job.trajectory = navproto::nav_log_trajectory(log, frame, to, &ts);
+        std::fprintf(stderr,
+                     "nav log: %llu positions, %llu attitudes%s -> %llu poses over %.3f s\n",
                      static_cast<unsigned long long>(ts.positions),
                      static_cast<unsigned long long>(ts.attitudes),
                      ts.heading_only ? " (heading only: level)" : "",

@@ -10,6 +10,7 @@
 #include "mirage/render/pipeline.hpp"
 #include "mirage/scene/scene.hpp"
 #include "mirage/sensor/sensor.hpp"
+#include "mirage/wire/setup.hpp"
 
 namespace mirage::hil {
 
@@ -67,5 +68,7 @@ core::Nanos parse_seconds(const std::string& text, const std::string& what);
 // written (RenderOptions::window_chunks); call after the sensor is final.
 void set_render_lead(Job& job, core::Nanos lead);
 render::EmbreeOptions embree_options(const std::string& quality);
+// What the job's packets describe besides the returns (the job must outlive the packetizer).
+wire::WireContext wire_context(const Job& job);
 
 }  // namespace mirage::hil

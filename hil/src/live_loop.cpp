@@ -20,8 +20,8 @@ void sleep_until_monotonic(std::int64_t ns) {
 
 }  // namespace
 
-LiveTotals run_live(Job& job, wire::Packetizer& packetizer, PacketOutput& out,
-                    std::size_t pulses_per_window, NavInput& nav,
+LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput& out,
+                    std::size_t pulses_per_window, navio::NavInput& nav,
                     const navpose::PoseBuffer& poses, const LiveOptions& opt,
                     const std::atomic<bool>& stop, std::uint64_t& packets_seen,
                     std::uint64_t& bytes_seen, std::int64_t& first_send_ns) {
@@ -63,10 +63,10 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, PacketOutput& out,
                 stale = true;
             }
             const auto q = poses.at(t_last);
-            stale_reason = q.status == navpose::PoseStatus::Empty
-                               ? "no navigation yet"
-                               : fmt::format("no navigation for {:.0f} ms",
-                                             double(q.age.count()) / 1e6);
+            stale_reason =
+                q.status == navpose::PoseStatus::Empty
+                    ? "no navigation yet"
+                    : fmt::format("no navigation for {:.0f} ms", double(q.age.count()) / 1e6);
         }
         tot.points += pts.size();
         first_send_ns = 0;
@@ -82,8 +82,7 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, PacketOutput& out,
         if (opt.status_line && now >= next_status) {
             const auto nc = nav.counters();
             const auto newest = poses.newest();
-            const double age_ms =
-                newest ? double((t_last - *newest).count()) / 1e6 : 0.0;
+            const double age_ms = newest ? double((t_last - *newest).count()) / 1e6 : 0.0;
             std::fprintf(stderr,
                          "\rlive: nav %llu msg/s, rejected %llu, pose age %.1f ms, stale %llu "
                          "periods%s%s | %llu pkt/s %.2f Mbit/s | INS->packet p99 %.2f ms   ",

@@ -5,10 +5,10 @@
 
 #include "job.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/navio/nav_input.hpp"
+#include "mirage/output/packet_output.hpp"
 #include "mirage/udp/lateness_histogram.hpp"
-#include "nav_input.hpp"
-#include "packet_output.hpp"
-#include "packetizer_factory.hpp"
+#include "mirage/wire/setup.hpp"
 
 namespace mirage::hil {
 
@@ -32,8 +32,8 @@ struct LiveTotals {
 // the pose buffer), with poses interpolated — or extrapolated within the buffer's horizon — at
 // each firing; a window without a pose (stale navigation) still sends its packets, with no
 // returns. Pulse 0 fires at job.options.start (INS GPS time).
-LiveTotals run_live(Job& job, wire::Packetizer& packetizer, PacketOutput& out,
-                    std::size_t pulses_per_window, NavInput& nav,
+LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput& out,
+                    std::size_t pulses_per_window, navio::NavInput& nav,
                     const navpose::PoseBuffer& poses, const LiveOptions& opt,
                     const std::atomic<bool>& stop, std::uint64_t& packets_seen,
                     std::uint64_t& bytes_seen, std::int64_t& first_send_ns);

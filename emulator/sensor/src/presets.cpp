@@ -7,10 +7,10 @@
 #include <string>
 
 #include "calibration_tables.hpp"
-#include "ouster_presets.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/airborne.hpp"
 #include "mirage/sensor/spinning.hpp"
+#include "ouster_presets.hpp"
 
 namespace mirage::sensor {
 namespace {
@@ -178,8 +178,9 @@ SensorModel make_hdl64e_s3() {
 
 // Ouster OS0/OS1/OS2 (beam tables and timing in ouster_presets.cpp).
 SensorModel make_ouster(const std::string& name, const detail::OusterPresetSpec& spec) {
-    const Optics o = spec.product == 0 ? os0_optics() : spec.product == 1 ? os1_optics()
-                                                                          : os2_optics();
+    const Optics o = spec.product == 0   ? os0_optics()
+                     : spec.product == 1 ? os1_optics()
+                                         : os2_optics();
     return spinning_model(name, detail::ouster_spinning_config(spec), o);
 }
 
@@ -235,14 +236,25 @@ std::vector<std::string> preset_names() {
     return names;
 }
 
+namespace {
+
+SensorModel with_wire(SensorModel m, WireFamily family) {
+    m.wire = {family, m.name};
+    return m;
+}
+
+}  // namespace
+
 SensorModel preset(const std::string& name) {
-    if (name == "vlp16") return make_vlp16(name, tables::kVlp16ElevationDeg);
-    if (name == "vlp16-hires") return make_vlp16(name, tables::kVlp16HiResElevationDeg);
-    if (name == "vlp32c") return make_vlp32c();
-    if (name == "hdl32e") return make_hdl32e();
-    if (name == "hdl64e-s3") return make_hdl64e_s3();
+    const auto velodyne = WireFamily::Velodyne;
+    if (name == "vlp16") return with_wire(make_vlp16(name, tables::kVlp16ElevationDeg), velodyne);
+    if (name == "vlp16-hires")
+        return with_wire(make_vlp16(name, tables::kVlp16HiResElevationDeg), velodyne);
+    if (name == "vlp32c") return with_wire(make_vlp32c(), velodyne);
+    if (name == "hdl32e") return with_wire(make_hdl32e(), velodyne);
+    if (name == "hdl64e-s3") return with_wire(make_hdl64e_s3(), velodyne);
     if (detail::OusterPresetSpec os; detail::parse_ouster_preset(name, os))
-        return make_ouster(name, os);
+        return with_wire(make_ouster(name, os), WireFamily::Ouster);
     // Oscillating mirror: 50 Hz = 100 lines/s, ±20°, 500 kHz (physics.md §4.1 airborne pattern).
     if (name == "als-mirror")
         return airborne_model(name, als_config(AirborneKind::Sawtooth, 500, 50, 40));

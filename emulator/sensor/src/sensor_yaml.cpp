@@ -342,8 +342,11 @@ SensorModel load_sensor_yaml(const std::string& path) {
     if (root["spinning"]) {
         const auto* base = dynamic_cast<const SpinningPattern*>(m.scan.get());
         if (m.scan && !base) r.fail("spinning", "base '" + base_name + "' is an airborne sensor");
+        const std::uint32_t base_channels = base ? base->channels() : 0;
         m.scan = read_spinning(r, root["spinning"], base, base_name);
         m.airborne = false;
+        // The vendor's packets have a fixed number of channels: another laser table has none.
+        if (m.scan->channels() != base_channels) m.wire = {};
     }
     if (root["airborne"]) {
         const auto* base = dynamic_cast<const AirbornePattern*>(m.scan.get());

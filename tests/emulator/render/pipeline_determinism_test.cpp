@@ -14,7 +14,7 @@
 namespace mirage::test {
 namespace {
 
-// LAS output, encoded by the writing thread (write) or, like hil's LasSink, by the workers.
+// LAS output, encoded by the writing thread (write) or, like las::LasSink, by the workers.
 class LasOut : public render::PointSink {
   public:
     LasOut(las::LasWriter& w, bool on_workers) : w_(w), on_workers_(on_workers) {}

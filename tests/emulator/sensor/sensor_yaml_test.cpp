@@ -235,3 +235,33 @@ TEST(SensorYaml, example_files_in_recordings_load) {
 
 }  // namespace
 }  // namespace mirage::sensor
+
+namespace mirage::sensor {
+namespace {
+
+// The wire family is a property of the model: a renamed sensor file keeps its base's packets,
+// another laser table has none, and presets say theirs.
+TEST(SensorWire, family_comes_from_the_model_not_the_name) {
+    EXPECT_EQ(preset("vlp16").wire.family, WireFamily::Velodyne);
+    EXPECT_EQ(preset("hdl64e-s3").wire.model, "hdl64e-s3");
+    EXPECT_EQ(preset("os1-64-1024x10").wire.family, WireFamily::Ouster);
+    EXPECT_EQ(preset("als-mirror").wire.family, WireFamily::None);
+
+    test::TempDir dir;
+    const auto renamed =
+        load_sensor_yaml(write(dir, "front.yaml", "base: os1-64-1024x10\nname: front\n"));
+    EXPECT_EQ(renamed.name, "front");
+    EXPECT_EQ(renamed.wire.family, WireFamily::Ouster);
+    EXPECT_EQ(renamed.wire.model, "os1-64-1024x10");
+
+    const auto fewer = load_sensor_yaml(write(dir, "two.yaml", R"(base: vlp16
+spinning:
+  lasers:
+    - {elevation_deg: -1, azimuth_offset_deg: 0, firing_offset_us: 0}
+    - {elevation_deg: 1, azimuth_offset_deg: 0, firing_offset_us: 2.304}
+)"));
+    EXPECT_EQ(fewer.wire.family, WireFamily::None);
+}
+
+}  // namespace
+}  // namespace mirage::sensor

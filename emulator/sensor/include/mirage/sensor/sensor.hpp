@@ -77,8 +77,17 @@ class ScanPattern {
     virtual std::uint32_t group_size() const { return channels(); }
 };
 
+// The vendor packet format a sensor speaks (`mirage emulate`, `mirage live`): a property of the
+// model, set by its preset and kept by sensor files based on it, never guessed from the name.
+enum class WireFamily : std::uint8_t { None, Velodyne, Ouster };
+struct WireIdentity {
+    WireFamily family = WireFamily::None;
+    std::string model;  // the codec's model name: vlp16, hdl64e-s3, os1-64-1024x10, ...
+};
+
 struct SensorModel {
     std::string name;
+    WireIdentity wire;  // None: no packet format (airborne scanners, sensors built from scratch)
     std::shared_ptr<const ScanPattern> scan;
     BeamParams beam;
     ReceiverParams receiver;

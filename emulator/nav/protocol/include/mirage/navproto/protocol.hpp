@@ -12,7 +12,7 @@
 #include "mirage/nav/nav_sample.hpp"
 #include "mirage/nmea/fields.hpp"
 
-namespace mirage::hil {
+namespace mirage::navproto {
 
 // The navigation protocols `mirage live` reads and `mirage fake-ins` writes.
 enum class NavProtocol : std::uint8_t { Nmea, Novatel, Ncom, OxtsCan, SbgCan };
@@ -55,10 +55,12 @@ std::optional<nmea::Date> nmea_date_hint(const std::string& spec);
 class NavEncoder {
   public:
     virtual ~NavEncoder() = default;
-    virtual std::vector<std::uint8_t> encode_bytes(const nav::NavSample& s, std::uint64_t epoch) = 0;
-    virtual std::vector<nav::CanFrame> encode_frames(const nav::NavSample& s, std::uint64_t epoch) = 0;
+    virtual std::vector<std::uint8_t> encode_bytes(const nav::NavSample& s,
+                                                   std::uint64_t epoch) = 0;
+    virtual std::vector<nav::CanFrame> encode_frames(const nav::NavSample& s,
+                                                     std::uint64_t epoch) = 0;
 };
 // `rate_hz`: the epoch rate, so 1 Hz messages can be spaced.
 std::unique_ptr<NavEncoder> make_nav_encoder(NavProtocol p, double rate_hz);
 
-}  // namespace mirage::hil
+}  // namespace mirage::navproto

@@ -12,12 +12,12 @@
 #include "mirage/can/can_bus.hpp"
 #include "mirage/navpose/nav_frame.hpp"
 #include "mirage/navpose/pose_buffer.hpp"
-#include "nav_codec.hpp"
+#include "mirage/navproto/protocol.hpp"
 
 namespace mirage::bytestream {
 class ByteStream;
 }
-namespace mirage::hil {
+namespace mirage::navio {
 
 class PoseLog;
 class NavRecorder;
@@ -50,11 +50,11 @@ struct NavInputCounters {
 // for the INS-to-packet latency figure.
 class NavInput {
   public:
-    NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+    NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
              double undulation_m);  // throws ConfigError / IoError when the transport won't open
     // Same, with recording and NMEA date options. The recorders must outlive stop(); the
     // caller closes them after stop().
-    NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+    NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
              const NavInputOptions& options);
     ~NavInput();
     NavInput(const NavInput&) = delete;
@@ -78,13 +78,13 @@ class NavInput {
     void run();
     void on_sample(const nav::NavSample& s, std::int64_t host_ns);
 
-    NavUri uri_;
+    navproto::NavUri uri_;
     navpose::NavFrame frame_;
     navpose::PoseBuffer& poses_;
     double undulation_m_;
     PoseLog* pose_log_ = nullptr;
     NavRecorder* record_ = nullptr;
-    std::unique_ptr<NavDecoder> decoder_;
+    std::unique_ptr<navproto::NavDecoder> decoder_;
     std::unique_ptr<bytestream::ByteStream> stream_;
     std::unique_ptr<can::CanBus> bus_;
     bool datagrams_ = false;
@@ -102,4 +102,4 @@ class NavInput {
     std::deque<std::int64_t> arrivals_;
 };
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio

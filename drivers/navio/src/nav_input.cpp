@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "nav_input.hpp"
+#include "mirage/navio/nav_input.hpp"
 
 #include <array>
 #include <chrono>
@@ -8,9 +8,9 @@
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
-#include "nav_recorder.hpp"
+#include "mirage/navio/nav_recorder.hpp"
 
-namespace mirage::hil {
+namespace mirage::navio {
 namespace {
 
 constexpr std::int64_t kOffsetBlockNs = 10'000'000'000;  // lower envelope over 10-20 s
@@ -25,11 +25,11 @@ void tally(navpose::AddStatus st, bool& applied, bool& rejected) {
 
 }  // namespace
 
-NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+NavInput::NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
                    double undulation_m)
     : NavInput(uri, frame, poses, NavInputOptions{undulation_m, "host", nullptr, nullptr}) {}
 
-NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
+NavInput::NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
                    const NavInputOptions& options)
     : uri_(uri),
       frame_(frame),
@@ -37,8 +37,8 @@ NavInput::NavInput(const NavUri& uri, navpose::NavFrame frame, navpose::PoseBuff
       undulation_m_(options.undulation_m),
       pose_log_(options.pose_log),
       record_(options.record),
-      decoder_(make_nav_decoder(uri.protocol, options.nmea_date)) {
-    if (is_can(uri.protocol)) {
+      decoder_(navproto::make_nav_decoder(uri.protocol, options.nmea_date)) {
+    if (navproto::is_can(uri.protocol)) {
         bus_ = can::open_can_bus(uri.transport);
     } else {
         stream_ = bytestream::open_byte_stream(uri.transport);
@@ -203,4 +203,4 @@ std::deque<std::int64_t> NavInput::take_arrivals() {
     return out;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio

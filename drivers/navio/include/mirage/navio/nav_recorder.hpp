@@ -10,7 +10,7 @@
 #include "mirage/nav/can_frame.hpp"
 #include "mirage/nav/nav_sample.hpp"
 
-namespace mirage::hil {
+namespace mirage::navio {
 
 // A file written in whole units (text lines, or the chunks a read returned) from one thread,
 // through a buffer flushed every 64 KiB or 0.5 s. A write error (disk full, EFBIG, EIO) stops
@@ -102,4 +102,4 @@ class NavRecorder {
 // Characters outside [A-Za-z0-9_.-] become '_'; at most 21 characters (candump's limit).
 std::string candump_ifname(const std::string& bus_spec);
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio

@@ -12,13 +12,13 @@
 #include <map>
 
 #include "cli_run.hpp"
-#include "fake_ins.hpp"
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/time.hpp"
 #include "mirage/navcan/candump.hpp"
+#include "mirage/navio/fake_ins.hpp"
+#include "mirage/navproto/nav_log.hpp"
 #include "mirage/nmea/nmea_decoder.hpp"
-#include "nav_log.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::test {
@@ -47,7 +47,7 @@ std::vector<std::string> sentences_of(const std::string& text) {
 
 TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_schedule) {
     MIRAGE_NAVIO_OR_SKIP(path, "rst39.log");
-    const hil::NavLog log = hil::read_nav_log(path.string(), hil::NavProtocol::Nmea);
+    const navproto::NavLog log = navproto::read_nav_log(path.string(), navproto::NavProtocol::Nmea);
     // Expected: each sentence with its time relative to the first message.
     std::vector<std::pair<std::string, std::int64_t>> want;
     const std::int64_t t0 = log.messages.front().t.time_since_epoch().count();
@@ -64,7 +64,7 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     std::atomic<bool> stop{false};
     const std::int64_t start = bytestream::monotonic_ns() + kLeadNs;
     auto sender = std::async(std::launch::async, [&] {
-        return hil::replay_nav_log(log, pty.master.get(), nullptr, 1.0, stop, start);
+        return navio::replay_nav_log(log, pty.master.get(), nullptr, 1.0, stop, start);
     });
     // Read until every sentence is back (or a deadline well past the log's 4 s).
     std::vector<std::pair<std::string, std::int64_t>> got;
@@ -86,7 +86,7 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
             pending.erase(0, nl + 1);
         }
     }
-    const hil::ReplayTotals tot = sender.get();
+    const navio::ReplayTotals tot = sender.get();
     ASSERT_EQ(got.size(), want.size());
     // Inter-message timing against the log's (what a reader sees), and the absolute error.
     std::vector<std::int64_t> errs, abs_errs;
@@ -146,14 +146,14 @@ TEST(NavLogReplay, candump_log_onto_a_memory_bus_gives_the_same_frames_on_the_lo
         }
         ASSERT_TRUE(w.close());
     }
-    const hil::NavLog log = hil::read_nav_log(path, hil::NavProtocol::OxtsCan);
+    const navproto::NavLog log = navproto::read_nav_log(path, navproto::NavProtocol::OxtsCan);
     ASSERT_EQ(log.frames.size(), 120u);
     auto tx = can::open_can_bus("memory:navlog-replay");
     auto rx = can::open_can_bus("memory:navlog-replay");
     std::atomic<bool> stop{false};
     const std::int64_t start = bytestream::monotonic_ns() + kLeadNs;
     auto sender = std::async(std::launch::async, [&] {
-        return hil::replay_nav_log(log, nullptr, tx.get(), 1.0, stop, start);
+        return navio::replay_nav_log(log, nullptr, tx.get(), 1.0, stop, start);
     });
     // Each frame's lateness against its deadline: the memory bus stamps a frame when it is sent,
     // on the same monotonic clock as `start`, so the receiver's own wake-ups do not enter.
@@ -168,7 +168,7 @@ TEST(NavLogReplay, candump_log_onto_a_memory_bus_gives_the_same_frames_on_the_lo
         ASSERT_EQ(f, sent[n].frame) << "frame " << n;
         late.push_back(host_ns - (start + (sent[n].time_ns - sent.front().time_ns)));
     }
-    const hil::ReplayTotals tot = sender.get();
+    const navio::ReplayTotals tot = sender.get();
     ASSERT_EQ(late.size(), sent.size());
     EXPECT_EQ(tot.span_ns, sent.back().time_ns - sent.front().time_ns);
     // Never before its deadline (a dump would send everything at once): exact, no timing margin.
@@ -197,13 +197,13 @@ TEST(NavLogReplay, speed_factor_compresses_the_schedule) {
         f.len = 8;
         for (int i = 0; i < 11; ++i) ASSERT_TRUE(w.write(1'000'000'000 + i * 40'000'000LL, "c", f));
     }
-    const hil::NavLog log = hil::read_nav_log(path, hil::NavProtocol::OxtsCan);
+    const navproto::NavLog log = navproto::read_nav_log(path, navproto::NavProtocol::OxtsCan);
     auto tx = can::open_can_bus("memory:navlog-speed");
     auto rx = can::open_can_bus("memory:navlog-speed");
     std::atomic<bool> stop{false};
     const std::int64_t start = bytestream::monotonic_ns() + kLeadNs;
     auto sender = std::async(std::launch::async, [&] {
-        return hil::replay_nav_log(log, nullptr, tx.get(), 4.0, stop, start);
+        return navio::replay_nav_log(log, nullptr, tx.get(), 4.0, stop, start);
     });
     std::vector<std::int64_t> at;
     while (at.size() < 11 && bytestream::monotonic_ns() < start + 3'000'000'000) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "packetizer_factory.hpp"
+#include "mirage/wire/setup.hpp"
 
 #include <fmt/format.h>
 
@@ -19,7 +19,7 @@
 #include "mirage/velodyne/model.hpp"
 #include "mirage/velodyne/packetizer.hpp"
 
-namespace mirage::hil {
+namespace mirage::wire {
 namespace {
 
 [[noreturn]] void no_wire_format(const std::string& name) {
@@ -32,9 +32,9 @@ namespace {
 // Position of the sensor for the Velodyne $GPRMC: the trajectory through the scene's georef.
 // A receiver reports one fix per UTC second, so the fix is computed once per second, with the
 // PROJ transform set up once (setting it up costs ~10 ms; position packets come every few ms).
-velodyne::PositionFn position_fn(const Job& job) {
-    const scene::Scene* s = job.scene.get();
-    const core::Trajectory* traj = &job.trajectory;
+velodyne::PositionFn position_fn(const WireContext& ctx) {
+    const scene::Scene* s = &ctx.scene;
+    const core::Trajectory* traj = &ctx.trajectory;
     struct Cache {
         std::int64_t second = std::numeric_limits<std::int64_t>::min();
         velodyne::GeoFix fix;
@@ -75,27 +75,27 @@ velodyne::PositionFn position_fn(const Job& job) {
 
 }  // namespace
 
-void prepare_sensor(Job& job, const WireOptions& options, double rpm) {
-    const std::string& name = job.sensor.name;
-    const bool velodyne = velodyne::model_from_name(name).has_value();
-    if (!velodyne && !is_ouster(name)) no_wire_format(name);
+void prepare_sensor(sensor::SensorModel& sensor, const WireOptions& options, double rpm) {
+    const sensor::WireFamily family = sensor.wire.family;
+    if (family == sensor::WireFamily::None) no_wire_format(sensor.name);
+    const bool velodyne = family == sensor::WireFamily::Velodyne;
     if (rpm > 0) {
         if (!velodyne)
             throw ConfigError(fmt::format(
                 "emulate: --rpm applies to Velodyne sensors; Ouster '{}' spins at the rate of "
                 "its lidar mode (<W>x<F>)",
-                name));
-        const auto* sp = dynamic_cast<const sensor::SpinningPattern*>(job.sensor.scan.get());
-        if (!sp) no_wire_format(name);
+                sensor.name));
+        const auto* sp = dynamic_cast<const sensor::SpinningPattern*>(sensor.scan.get());
+        if (!sp) no_wire_format(sensor.name);
         sensor::SpinningConfig cfg = sp->config();
         cfg.rotation_hz = rpm / 60.0;
-        job.sensor.scan = std::make_shared<sensor::SpinningPattern>(cfg);
+        sensor.scan = std::make_shared<sensor::SpinningPattern>(cfg);
     }
     if (velodyne) {
         const auto mode = velodyne::parse_return_mode(options.return_mode);
         // Last and dual need every echo of a pulse; the packetizer picks from them.
         if (mode != velodyne::ReturnMode::Strongest)
-            job.sensor.receiver.max_returns = std::max(job.sensor.receiver.max_returns, 8);
+            sensor.receiver.max_returns = std::max(sensor.receiver.max_returns, 8);
     } else if (options.return_mode != "strongest") {
         throw ConfigError(fmt::format(
             "emulate: --return-mode {}: the Ouster profiles emulated here are single-return "
@@ -104,18 +104,21 @@ void prepare_sensor(Job& job, const WireOptions& options, double rpm) {
     }
 }
 
-WireSetup make_wire(const Job& job, const WireOptions& options, wire::PacketFn sink,
+WireSetup make_wire(const WireContext& ctx, const WireOptions& options, wire::PacketFn sink,
                     const std::string& udp_host) {
     WireSetup w;
-    const std::string& name = job.sensor.name;
-    if (const auto model = velodyne::model_from_name(name)) {
+    const sensor::SensorModel& sensor = ctx.sensor;
+    if (sensor.wire.family == sensor::WireFamily::None) no_wire_format(sensor.name);
+    if (sensor.wire.family == sensor::WireFamily::Velodyne) {
+        const auto model = velodyne::model_from_name(sensor.wire.model);
+        if (!model) no_wire_format(sensor.name);
         const auto& d = velodyne::descriptor(*model);
         const auto mode = velodyne::parse_return_mode(options.return_mode);
         velodyne::PacketizerOptions po;
         po.position_packets = options.position_packets;
-        if (options.position_packets) po.position = position_fn(job);
-        auto p = std::make_unique<velodyne::Packetizer>(d, mode, job.sensor, job.options.start,
-                                                        std::move(sink), po);
+        if (options.position_packets) po.position = position_fn(ctx);
+        auto p =
+            std::make_unique<velodyne::Packetizer>(d, mode, sensor, ctx.start, std::move(sink), po);
         w.packets_per_second = d.packets_per_second(mode);  // firing timing is fixed; rpm is not
         w.packetizer = std::move(p);
         w.vendor = "velodyne";
@@ -124,13 +127,12 @@ WireSetup make_wire(const Job& job, const WireOptions& options, wire::PacketFn s
         w.side_file_ext = ".yaml";
         return w;
     }
-    if (!is_ouster(name)) no_wire_format(name);
     const auto profile = ouster::parse_profile(options.profile);
-    const ouster::Descriptor d = ouster::make_descriptor(name, profile);
+    const ouster::Descriptor d = ouster::make_descriptor(sensor.wire.model, profile);
     ouster::PacketizerConfig cfg;
-    cfg.start = job.options.start;
-    const core::Trajectory* traj = &job.trajectory;
-    const core::Mount mount = job.mount;
+    cfg.start = ctx.start;
+    const core::Trajectory* traj = &ctx.trajectory;
+    const core::Mount mount = ctx.mount;
     if (options.imu_packets)
         cfg.imu = [traj, mount, d](core::GpsTime t) {
             return ouster::imu_reading(*traj, mount, d, t);
@@ -146,4 +148,4 @@ WireSetup make_wire(const Job& job, const WireOptions& options, wire::PacketFn s
     return w;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::wire

@@ -24,14 +24,15 @@
 #include "commands.hpp"
 #include "job.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/output/packet_output.hpp"
+#include "mirage/output/packetizer_sink.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 #include "mirage/udp/shared_sender.hpp"
 #include "mirage/udp/udp_receiver.hpp"
 #include "mirage/velodyne/model.hpp"
 #include "mirage/velodyne/packetizer.hpp"
-#include "packet_output.hpp"
-#include "packetizer_factory.hpp"
+#include "mirage/wire/setup.hpp"
 #include "stream_bench.hpp"
 #include "text_file.hpp"
 
@@ -62,8 +63,8 @@ constexpr Case kStreamCases[] = {
     {"OS1-128 2048x10 RNG19", "os1-128-2048x10", "strongest", kRng19},
 };
 
-WireOptions wire_options(const Case& c) {
-    WireOptions w;
+wire::WireOptions wire_options(const Case& c) {
+    wire::WireOptions w;
     w.return_mode = c.mode;
     w.profile = c.profile;
     return w;
@@ -171,27 +172,27 @@ double time_encoder(wire::Packetizer& packetizer, const Job& job, bool dual, cor
 }
 
 // The encoder alone (Velodyne position packets from a fixed fix, Ouster IMU from the static
-// trajectory), then the same through make_wire as `mirage emulate` builds it.
+// trajectory), then the same through wire::make_wire as `mirage emulate` builds it.
 EncoderRow bench_encoder(const Case& c, const std::shared_ptr<const scene::Scene>& scene,
                          core::Nanos span) {
     JobInputs in;
     in.sensor = c.sensor;
     in.trajectory = "static:0,0,2";
     Job job = load_job_with_scene(in, scene, 0, false);
-    const WireOptions wo = wire_options(c);
-    prepare_sensor(job, wo, 0);
+    const wire::WireOptions wo = wire_options(c);
+    wire::prepare_sensor(job.sensor, wo, 0);
     const bool dual = std::string(c.mode) == "dual";
     EncoderRow row;
     row.label = c.label;
     EncodeCount pure;
     std::unique_ptr<wire::Packetizer> p;
-    if (const auto model = velodyne::model_from_name(job.sensor.name)) {
+    if (const auto model = velodyne::model_from_name(job.sensor.wire.model)) {
         p = std::make_unique<velodyne::Packetizer>(
             velodyne::descriptor(*model), velodyne::parse_return_mode(wo.return_mode), job.sensor,
             job.options.start, [&pure](const wire::PacketView& v) { pure(v); });
     } else {
-        p = make_wire(
-                job, wo, [&pure](const wire::PacketView& v) { pure(v); }, "")
+        p = wire::make_wire(
+                wire_context(job), wo, [&pure](const wire::PacketView& v) { pure(v); }, "")
                 .packetizer;
     }
     row.seconds = time_encoder(*p, job, dual, span, row.pulses);
@@ -201,8 +202,8 @@ EncoderRow bench_encoder(const Case& c, const std::shared_ptr<const scene::Scene
     row.packets_per_s = row.seconds > 0 ? static_cast<double>(pure.data) / row.seconds : 0;
 
     EncodeCount full;
-    WireSetup w = make_wire(
-        job, wo, [&full](const wire::PacketView& v) { full(v); }, "");
+    wire::WireSetup w = wire::make_wire(
+        wire_context(job), wo, [&full](const wire::PacketView& v) { full(v); }, "");
     row.device_packets_per_s = w.packets_per_second;
     std::uint64_t pulses = 0;
     const double s = time_encoder(*w.packetizer, job, dual, span, pulses);
@@ -216,9 +217,9 @@ EncoderRow bench_encoder(const Case& c, const std::shared_ptr<const scene::Scene
 struct StreamRun {
     Case c{};
     Job job;
-    WireSetup wire;
+    wire::WireSetup wire;
     std::unique_ptr<udp::UdpReceiver> rx;
-    std::unique_ptr<PacketOutput> out;
+    std::unique_ptr<output::PacketOutput> out;
     ScheduleRing ring;
     // Render writer thread.
     bool anchored = false;
@@ -228,7 +229,7 @@ struct StreamRun {
     std::vector<std::int64_t> late_at;      // schedule time (from the first packet) of those > 1 ms
     std::uint64_t data_handed = 0, aux_handed = 0, ring_full = 0;
     render::RenderStats stats;
-    PacketOutputTotals totals;
+    output::PacketOutputTotals totals;
     std::string error;
     // Receiver thread.
     std::vector<std::int64_t> wire_late;  // kernel receive time − deadline
@@ -247,7 +248,7 @@ void hand_over(StreamRun& r, const wire::PacketView& p) {
     if (!r.anchored) {
         r.anchored = true;
         r.t0 = p.time;
-        r.anchor_ns = now + kEmulateStartLead.count();  // as emulate: a lead before sending
+        r.anchor_ns = now + output::kEmulateStartLead.count();  // as emulate: a lead before sending
         r.out->anchor(r.t0, r.anchor_ns);  // the Pacer's schedule is exactly the one measured
     }
     const std::int64_t deadline = r.anchor_ns + (p.time - r.t0).count();
@@ -411,12 +412,12 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         in.threads = render_threads;
         r->job = load_job_with_scene(in, scene, seconds_scene, runs.empty());
         r->job.options.chunk_pulses = chunk_pulses;
-        const WireOptions wo = wire_options(c);
-        prepare_sensor(r->job, wo, 0);
-        set_render_lead(r->job, kEmulateRenderLead);  // as emulate
+        const wire::WireOptions wo = wire_options(c);
+        wire::prepare_sensor(r->job.sensor, wo, 0);
+        set_render_lead(r->job, output::kEmulateRenderLead);  // as emulate
         r->rx = std::make_unique<udp::UdpReceiver>();
-        const bool ouster = is_ouster(r->job.sensor.name);
-        PacketOutputOptions po;
+        const bool ouster = r->job.sensor.wire.family == sensor::WireFamily::Ouster;
+        output::PacketOutputOptions po;
         po.realtime = true;
         po.status_line = false;
         po.fifo_priority = fifo_priority;  // as `mirage emulate --rt-priority`
@@ -427,10 +428,11 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         sc.ports = udp::StreamPorts{r->rx->port(), ouster ? std::uint16_t{0} : r->rx->port(),
                                     ouster ? r->rx->port() : std::uint16_t{0}};
         po.udp = sc;
-        r->out = std::make_unique<PacketOutput>(po);
+        r->out = std::make_unique<output::PacketOutput>(po);
         StreamRun* raw = r.get();
-        r->wire = make_wire(
-            r->job, wo, [raw](const wire::PacketView& p) { hand_over(*raw, p); }, "127.0.0.1");
+        r->wire = wire::make_wire(
+            wire_context(r->job), wo, [raw](const wire::PacketView& p) { hand_over(*raw, p); },
+            "127.0.0.1");
         // Reserve the per-packet series so the hot path never reallocates.
         const auto expect = static_cast<std::size_t>(secs * (r->wire.packets_per_second + 200.0));
         r->handed_late.reserve(expect + 4096);
@@ -454,7 +456,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         senders.emplace_back([&r, &renderer] {
             pthread_setname_np(pthread_self(), "mirage-writer");
             try {
-                PacketizerSink sink(*r->wire.packetizer);
+                output::PacketizerSink sink(*r->wire.packetizer);
                 const Job& j = r->job;
                 r->stats = render::render(*j.scene, renderer, j.sensor, j.trajectory, j.mount,
                                           j.env, j.options, sink);
@@ -552,7 +554,8 @@ std::string markdown(const Report& r) {
             e.seconds, e.packets_per_s, e.device_packets_per_s, e.headroom(),
             e.emulate_packets_per_s, e.emulate_headroom());
     o << "\nThe encoder alone uses a fixed position fix (Velodyne) and the static pose (Ouster "
-         "IMU); \"as emulate builds it\" goes through make_wire, whose Velodyne position packets "
+         "IMU); \"as emulate builds it\" goes through wire::make_wire, whose Velodyne position "
+         "packets "
          "take the fix from the trajectory through Georef::geodetic_from_local (once per UTC "
          "second).\n";
     const auto& s = r.streams;
@@ -560,7 +563,7 @@ std::string markdown(const Report& r) {
         "\n## Three streams at once in real time ({} s, trajectory {}, {} render worker "
         "thread(s) per stream, {} pulses per chunk, renderers up to {} ms ahead, {})\n\n",
         r.seconds, s.trajectory, s.render_threads, s.chunk_pulses,
-        std::chrono::duration_cast<std::chrono::milliseconds>(kEmulateRenderLead).count(),
+        std::chrono::duration_cast<std::chrono::milliseconds>(output::kEmulateRenderLead).count(),
         fmt::format("{} {}",
                     s.shared ? "one shared deadline-ordered sending thread (--sender shared)"
                              : "each stream paced and sent by its writer thread (--sender "

@@ -16,7 +16,7 @@
 #include "bench_report.hpp"
 #include "commands.hpp"
 #include "job.hpp"
-#include "las_sink.hpp"
+#include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
 
 namespace mirage::hil {
@@ -82,7 +82,7 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
 
 render::RenderStats run_pipeline_to_null(Job& job, const std::string& null_path) {
     las::LasWriter writer(null_path, job.scene->georef);
-    LasSink sink(writer);
+    las::LasSink sink(writer);
     const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
                                       job.mount, job.env, job.options, sink);
     writer.close();

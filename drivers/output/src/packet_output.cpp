@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "packet_output.hpp"
+#include "mirage/output/packet_output.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include "mirage/core/time.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 
-namespace mirage::hil {
+namespace mirage::output {
 
 udp::StreamPorts sensor_ports(bool ouster, std::uint16_t data, std::uint16_t position,
                               std::uint16_t imu) {
@@ -185,4 +185,4 @@ PacketOutputTotals PacketOutput::finish() {
     return totals_;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::output

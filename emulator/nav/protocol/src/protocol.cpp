@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "nav_codec.hpp"
+#include "mirage/navproto/protocol.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -17,7 +17,7 @@
 #include "mirage/novatel/decoder.hpp"
 #include "mirage/novatel/encoder.hpp"
 
-namespace mirage::hil {
+namespace mirage::navproto {
 namespace {
 
 // Decoders for byte protocols ignore CAN frames and vice versa (counted as unsupported).
@@ -141,7 +141,8 @@ class SbgCanEncoderAdapter : public NavEncoder {
     std::vector<std::uint8_t> encode_bytes(const nav::NavSample&, std::uint64_t) override {
         return {};
     }
-    std::vector<nav::CanFrame> encode_frames(const nav::NavSample& s, std::uint64_t epoch) override {
+    std::vector<nav::CanFrame> encode_frames(const nav::NavSample& s,
+                                             std::uint64_t epoch) override {
         if (epoch == 0) cfg_.boot = s.t - std::chrono::seconds(1);
         std::vector<nav::CanFrame> out;
         if (epoch % every_ == 0) out = navcan::sbg_can_encode_utc(s.t, cfg_);
@@ -169,11 +170,16 @@ NavProtocol parse_nav_protocol(const std::string& name) {
 
 std::string to_string(NavProtocol p) {
     switch (p) {
-    case NavProtocol::Nmea: return "nmea";
-    case NavProtocol::Novatel: return "novatel";
-    case NavProtocol::Ncom: return "ncom";
-    case NavProtocol::OxtsCan: return "oxts-can";
-    case NavProtocol::SbgCan: return "sbg-can";
+        case NavProtocol::Nmea:
+            return "nmea";
+        case NavProtocol::Novatel:
+            return "novatel";
+        case NavProtocol::Ncom:
+            return "ncom";
+        case NavProtocol::OxtsCan:
+            return "oxts-can";
+        case NavProtocol::SbgCan:
+            return "sbg-can";
     }
     return "?";
 }
@@ -206,31 +212,39 @@ std::optional<nmea::Date> nmea_date_hint(const std::string& spec) {
     throw ConfigError("nav: NMEA date '" + spec + "': expected host, stream or YYYY-MM-DD");
 }
 
-
 std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& nmea_date) {
     switch (p) {
-    case NavProtocol::Nmea: {
-        auto a = std::make_unique<ByteAdapter<nmea::NmeaDecoder>>();
-        if (const auto hint = nmea_date_hint(nmea_date)) a->decoder().set_date_hint(*hint);
-        return a;
-    }
-    case NavProtocol::Novatel: return std::make_unique<ByteAdapter<novatel::NovatelDecoder>>();
-    case NavProtocol::Ncom: return std::make_unique<ByteAdapter<ncom::NcomDecoder>>();
-    case NavProtocol::OxtsCan: return std::make_unique<CanAdapter<navcan::OxtsCanDecoder>>();
-    case NavProtocol::SbgCan: return std::make_unique<CanAdapter<navcan::SbgCanDecoder>>();
+        case NavProtocol::Nmea: {
+            auto a = std::make_unique<ByteAdapter<nmea::NmeaDecoder>>();
+            if (const auto hint = nmea_date_hint(nmea_date)) a->decoder().set_date_hint(*hint);
+            return a;
+        }
+        case NavProtocol::Novatel:
+            return std::make_unique<ByteAdapter<novatel::NovatelDecoder>>();
+        case NavProtocol::Ncom:
+            return std::make_unique<ByteAdapter<ncom::NcomDecoder>>();
+        case NavProtocol::OxtsCan:
+            return std::make_unique<CanAdapter<navcan::OxtsCanDecoder>>();
+        case NavProtocol::SbgCan:
+            return std::make_unique<CanAdapter<navcan::SbgCanDecoder>>();
     }
     throw ConfigError("nav: no decoder");
 }
 
 std::unique_ptr<NavEncoder> make_nav_encoder(NavProtocol p, double rate_hz) {
     switch (p) {
-    case NavProtocol::Nmea: return std::make_unique<NmeaEncoder>(rate_hz);
-    case NavProtocol::Novatel: return std::make_unique<NovatelEncoderAdapter>(rate_hz);
-    case NavProtocol::Ncom: return std::make_unique<NcomEncoderAdapter>();
-    case NavProtocol::OxtsCan: return std::make_unique<OxtsCanEncoderAdapter>();
-    case NavProtocol::SbgCan: return std::make_unique<SbgCanEncoderAdapter>(rate_hz);
+        case NavProtocol::Nmea:
+            return std::make_unique<NmeaEncoder>(rate_hz);
+        case NavProtocol::Novatel:
+            return std::make_unique<NovatelEncoderAdapter>(rate_hz);
+        case NavProtocol::Ncom:
+            return std::make_unique<NcomEncoderAdapter>();
+        case NavProtocol::OxtsCan:
+            return std::make_unique<OxtsCanEncoderAdapter>();
+        case NavProtocol::SbgCan:
+            return std::make_unique<SbgCanEncoderAdapter>(rate_hz);
     }
     throw ConfigError("nav: no encoder");
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::navproto

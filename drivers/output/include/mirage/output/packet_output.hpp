@@ -12,7 +12,7 @@
 #include "mirage/udp/udp_sender.hpp"
 #include "mirage/wire/packet.hpp"
 
-namespace mirage::hil {
+namespace mirage::output {
 
 struct PacketOutputOptions {
     std::optional<udp::SenderConfig> udp;               // none: no network output
@@ -118,4 +118,4 @@ class PacketOutput {
     std::string pcap_error_;  // the capture's write error; finish() throws it
 };
 
-}  // namespace mirage::hil
+}  // namespace mirage::output

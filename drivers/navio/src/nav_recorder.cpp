@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "nav_recorder.hpp"
+#include "mirage/navio/nav_recorder.hpp"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -14,7 +14,7 @@
 #include "mirage/core/time.hpp"
 #include "mirage/navcan/candump.hpp"
 
-namespace mirage::hil {
+namespace mirage::navio {
 namespace {
 
 constexpr std::size_t kFlushBytes = 64 * 1024;
@@ -145,4 +145,4 @@ std::string candump_ifname(const std::string& bus_spec) {
     return name;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio

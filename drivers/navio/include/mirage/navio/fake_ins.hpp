@@ -5,8 +5,8 @@
 
 #include "mirage/core/trajectory.hpp"
 #include "mirage/navpose/nav_frame.hpp"
-#include "nav_codec.hpp"
-#include "nav_log.hpp"
+#include "mirage/navproto/nav_log.hpp"
+#include "mirage/navproto/protocol.hpp"
 
 namespace mirage::bytestream {
 class ByteStream;
@@ -15,19 +15,19 @@ namespace mirage::can {
 class CanBus;
 }
 
-namespace mirage::hil {
+namespace mirage::navio {
 
 // Faults to inject, for testing what a receiver rejects (times after t0; 0 / negative = off).
 struct FakeInsFaults {
     core::Nanos silence_at{-1}, silence_for{0};  // no messages in [at, at + for)
-    core::Nanos jump_at{-1};        // one epoch's position 100 m off
-    core::Nanos backwards_at{-1};   // one epoch stamped 1 s in the past
-    core::Nanos nan_at{-1};         // one epoch with a NaN latitude (encoders print/pack it)
+    core::Nanos jump_at{-1};                     // one epoch's position 100 m off
+    core::Nanos backwards_at{-1};                // one epoch stamped 1 s in the past
+    core::Nanos nan_at{-1};           // one epoch with a NaN latitude (encoders print/pack it)
     std::uint64_t corrupt_every = 0;  // byte protocols: flip one byte of every n-th message
 };
 
 struct FakeInsConfig {
-    NavProtocol protocol = NavProtocol::Nmea;
+    navproto::NavProtocol protocol = navproto::NavProtocol::Nmea;
     double rate_hz = 100.0;
     core::Nanos duration{0};  // 0: the trajectory's span (held at its end pose afterwards: forever
                               // for a static pose) — until stopped
@@ -76,7 +76,8 @@ struct ReplayTotals {
 // to `stream` (t = the messages' own times: NMEA UTC fields, NovAtel header GPS time, NCOM
 // time), CAN logs to `bus` (t = the candump timestamps). Times that run backwards in the log are
 // sent at once. start_ns 0: now.
-ReplayTotals replay_nav_log(const NavLog& log, bytestream::ByteStream* stream, can::CanBus* bus,
-                            double speed, const std::atomic<bool>& stop, std::int64_t start_ns = 0);
+ReplayTotals replay_nav_log(const navproto::NavLog& log, bytestream::ByteStream* stream,
+                            can::CanBus* bus, double speed, const std::atomic<bool>& stop,
+                            std::int64_t start_ns = 0);
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "fake_ins.hpp"
+#include "mirage/navio/fake_ins.hpp"
 
 #include <time.h>
 
@@ -11,7 +11,7 @@
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 
-namespace mirage::hil {
+namespace mirage::navio {
 
 core::GpsTime gps_now_ms() {
     const std::int64_t unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -26,8 +26,7 @@ core::GpsTime fake_ins_start(double rate_hz, core::Nanos lead) {
     return core::GpsTime(core::Nanos((t + period - 1) / period * period));
 }
 
-FakeIns::FakeIns(const core::Trajectory& trajectory, navpose::NavFrame frame,
-                 FakeInsConfig config)
+FakeIns::FakeIns(const core::Trajectory& trajectory, navpose::NavFrame frame, FakeInsConfig config)
     : traj_(trajectory), frame_(frame), cfg_(config) {}
 
 nav::NavSample FakeIns::sample_at(core::GpsTime t, core::GpsTime t0) const {
@@ -47,7 +46,7 @@ nav::NavSample FakeIns::sample_at(core::GpsTime t, core::GpsTime t0) const {
 FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, core::GpsTime t0,
                            const std::atomic<bool>& stop) {
     FakeInsTotals tot;
-    auto encoder = make_nav_encoder(cfg_.protocol, cfg_.rate_hz);
+    auto encoder = navproto::make_nav_encoder(cfg_.protocol, cfg_.rate_hz);
     const std::int64_t period_ns = static_cast<std::int64_t>(1e9 / cfg_.rate_hz + 0.5);
     for (std::uint64_t i = 0; !stop.load(); ++i) {
         const core::GpsTime t = t0 + core::Nanos(static_cast<std::int64_t>(i) * period_ns);
@@ -109,25 +108,27 @@ FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, cor
     return tot;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio
 
-namespace mirage::hil {
+namespace mirage::navio {
 namespace {
 
 void sleep_until_monotonic(std::int64_t ns) {
-    const timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+    const timespec ts{static_cast<time_t>(ns / 1'000'000'000),
+                      static_cast<long>(ns % 1'000'000'000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
 }
 
 }  // namespace
 
-ReplayTotals replay_nav_log(const NavLog& log, bytestream::ByteStream* stream, can::CanBus* bus,
-                            double speed, const std::atomic<bool>& stop, std::int64_t start_ns) {
+ReplayTotals replay_nav_log(const navproto::NavLog& log, bytestream::ByteStream* stream,
+                            can::CanBus* bus, double speed, const std::atomic<bool>& stop,
+                            std::int64_t start_ns) {
     ReplayTotals tot;
     if (!(speed > 0)) speed = 1.0;
     if (start_ns == 0) start_ns = bytestream::monotonic_ns();
-    const bool frames = is_can(log.protocol);
+    const bool frames = navproto::is_can(log.protocol);
     const std::size_t n = frames ? log.frames.size() : log.messages.size();
     const auto time_of = [&](std::size_t i) -> std::int64_t {
         return frames ? log.frames[i].stamped.time_ns
@@ -153,7 +154,7 @@ ReplayTotals replay_nav_log(const NavLog& log, bytestream::ByteStream* stream, c
             if (!bus || !bus->send(f)) ++tot.write_failures;
             tot.bytes += f.len;
         } else {
-            const NavLogMessage& m = log.messages[i];
+            const navproto::NavLogMessage& m = log.messages[i];
             const std::span<const std::uint8_t> b(log.bytes.data() + m.offset, m.size);
             if (!stream || !stream->write(b)) ++tot.write_failures;
             tot.bytes += m.size;
@@ -164,4 +165,4 @@ ReplayTotals replay_nav_log(const NavLog& log, bytestream::ByteStream* stream, c
     return tot;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::navio

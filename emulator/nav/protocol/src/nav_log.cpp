@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "nav_log.hpp"
+#include "mirage/navproto/nav_log.hpp"
 
 #include <fmt/format.h>
 
@@ -17,12 +17,12 @@
 #include "mirage/core/error.hpp"
 #include "mirage/navcan/oxts_can.hpp"
 #include "mirage/navcan/sbg_can.hpp"
+#include "mirage/navproto/protocol.hpp"
 #include "mirage/ncom/decoder.hpp"
 #include "mirage/nmea/nmea_decoder.hpp"
 #include "mirage/novatel/decoder.hpp"
-#include "nav_codec.hpp"
 
-namespace mirage::hil {
+namespace mirage::navproto {
 namespace {
 
 constexpr std::int64_t kNsPerDay = 86'400'000'000'000;
@@ -354,4 +354,4 @@ std::string nav_log_summary(const NavLog& log) {
     return out;
 }
 
-}  // namespace mirage::hil
+}  // namespace mirage::navproto

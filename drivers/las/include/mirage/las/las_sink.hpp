@@ -6,7 +6,7 @@
 #include "mirage/las/las_writer.hpp"
 #include "mirage/render/pipeline.hpp"
 
-namespace mirage::hil {
+namespace mirage::las {
 
 // Pipeline output to a LAS file, optionally keeping a copy of the points (for previews). Without
 // a copy the render workers encode the records (LasWriter::encode) and this thread only writes.
@@ -39,4 +39,4 @@ class LasSink : public render::PointSink {
     std::vector<core::PointRecord>* keep_;
 };
 
-}  // namespace mirage::hil
+}  // namespace mirage::las

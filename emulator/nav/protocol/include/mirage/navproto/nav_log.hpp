@@ -9,9 +9,9 @@
 #include "mirage/nav/nav_sample.hpp"
 #include "mirage/navcan/candump.hpp"
 #include "mirage/navpose/nav_frame.hpp"
-#include "nav_codec.hpp"
+#include "mirage/navproto/protocol.hpp"
 
-namespace mirage::hil {
+namespace mirage::navproto {
 
 // One message of a byte log (NMEA sentence, NovAtel frame, NCOM packet) with the time it carries.
 // Bytes that yield no timed sample (HDT, unsupported logs, garbage) travel with the message they
@@ -24,12 +24,12 @@ struct NavLogMessage {
 
 struct NavLogStats {
     std::uint64_t bytes = 0;
-    std::uint64_t messages = 0;        // byte logs: chunks; CAN: frames
-    std::uint64_t samples = 0;         // NavSamples decoded
-    std::uint64_t untimed_samples = 0; // samples without a full time (HDT, VTG)
-    nav::DecodeCounters decode;        // the protocol decoder's counters
-    navcan::CandumpReadStats candump;  // CAN logs: malformed lines
-    bool nmea_date_assumed = false;    // NMEA without RMC/ZDA: the date was not in the log
+    std::uint64_t messages = 0;         // byte logs: chunks; CAN: frames
+    std::uint64_t samples = 0;          // NavSamples decoded
+    std::uint64_t untimed_samples = 0;  // samples without a full time (HDT, VTG)
+    nav::DecodeCounters decode;         // the protocol decoder's counters
+    navcan::CandumpReadStats candump;   // CAN logs: malformed lines
+    bool nmea_date_assumed = false;     // NMEA without RMC/ZDA: the date was not in the log
     std::uint64_t rejected() const { return decode.rejected() + candump.rejected(); }
 };
 
@@ -45,16 +45,17 @@ struct NavLogOptions {
 struct NavLog {
     std::string path;
     NavProtocol protocol = NavProtocol::Nmea;
-    std::vector<std::uint8_t> bytes;             // byte protocols: the whole file
-    std::vector<NavLogMessage> messages;         // byte protocols: in file order
-    std::vector<navcan::CandumpRecord> frames;   // CAN protocols: valid lines, in file order
-    std::vector<nav::NavSample> samples;         // every sample with kTime, in decode order
+    std::vector<std::uint8_t> bytes;            // byte protocols: the whole file
+    std::vector<NavLogMessage> messages;        // byte protocols: in file order
+    std::vector<navcan::CandumpRecord> frames;  // CAN protocols: valid lines, in file order
+    std::vector<nav::NavSample> samples;        // every sample with kTime, in decode order
     NavLogStats stats;
 };
 
 // Reads and decodes a log. Malformed lines/frames are counted (stats), never thrown. Throws
 // IoError "nav log '<path>': cannot read ..." when the file cannot be read.
-NavLog read_nav_log(const std::string& path, NavProtocol protocol, const NavLogOptions& options = {});
+NavLog read_nav_log(const std::string& path, NavProtocol protocol,
+                    const NavLogOptions& options = {});
 
 struct NavTrackOptions {
     double undulation_m = 0;  // added to heights the INS gives above MSL
@@ -63,8 +64,8 @@ struct NavTrackOptions {
 
 struct NavTrackStats {
     std::uint64_t positions = 0, attitudes = 0, poses = 0;
-    std::uint64_t non_finite = 0;     // samples dropped for NaN/Inf fields
-    bool heading_only = false;        // no roll/pitch in the log: level attitude from headings
+    std::uint64_t non_finite = 0;  // samples dropped for NaN/Inf fields
+    bool heading_only = false;     // no roll/pitch in the log: level attitude from headings
 };
 
 // Position and attitude tracks of the log's samples, mapped into the scene frame by `frame` and
@@ -83,4 +84,4 @@ navpose::NavFrame parse_nav_origin(const std::string& spec);
 // One line: "nav log 'f': 158 lines/frames, 157 samples, rejected: 2 bad checksum, ...".
 std::string nav_log_summary(const NavLog& log);
 
-}  // namespace mirage::hil
+}  // namespace mirage::navproto

@@ -20,8 +20,8 @@
 #include "mirage/core/time.hpp"
 #include "mirage/navcan/candump.hpp"
 #include "mirage/navcan/oxts_can.hpp"
+#include "mirage/navio/nav_recorder.hpp"
 #include "mirage/nmea/nmea_decoder.hpp"
-#include "nav_recorder.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::test {
@@ -208,7 +208,7 @@ TEST(RecordFile, write_error_cuts_the_file_back_to_the_last_whole_line) {
     std::string error;
     std::uint64_t units = 0;
     {
-        hil::RecordFile f(path, "test 'cut.csv'");
+        navio::RecordFile f(path, "test 'cut.csv'");
         const std::string line(29, 'x');  // 30 bytes with '\n': 100 000 is not a multiple
         for (int i = 0; i < 10'000; ++i) f.append(line + "\n");
         ok = f.close();
@@ -244,7 +244,7 @@ TEST(PoseLog, rows_read_back_to_the_exact_values_applied) {
     const Eigen::Vector3d local(12.345678901234, -0.1, 1e-7);
     const Eigen::Quaterniond q(0.5, -0.5, 0.5, 0.5);
     {
-        hil::PoseLog log(path);
+        navio::PoseLog log(path);
         log.position(s, local);
         log.attitude(s, q);
         ASSERT_TRUE(log.close());
@@ -286,12 +286,12 @@ TEST(PoseLog, rows_read_back_to_the_exact_values_applied) {
 }
 
 TEST(NavRecorder, candump_interface_names_follow_the_bus_spec) {
-    EXPECT_EQ(hil::candump_ifname("socketcan:can1"), "can1");
-    EXPECT_EQ(hil::candump_ifname("memory:vcan0"), "vcan0");
-    EXPECT_EQ(hil::candump_ifname("slcan:/dev/pts/3?bitrate=500000"), "slcan0");
-    EXPECT_EQ(hil::candump_ifname("gsusb:1d50:606f"), "can0");
-    EXPECT_EQ(hil::candump_ifname("memory:a b/c?x=1"), "a_b_c");
-    EXPECT_EQ(hil::candump_ifname("memory:abcdefghijklmnopqrstuvwxyz").size(), 21u);
+    EXPECT_EQ(navio::candump_ifname("socketcan:can1"), "can1");
+    EXPECT_EQ(navio::candump_ifname("memory:vcan0"), "vcan0");
+    EXPECT_EQ(navio::candump_ifname("slcan:/dev/pts/3?bitrate=500000"), "slcan0");
+    EXPECT_EQ(navio::candump_ifname("gsusb:1d50:606f"), "can0");
+    EXPECT_EQ(navio::candump_ifname("memory:a b/c?x=1"), "a_b_c");
+    EXPECT_EQ(navio::candump_ifname("memory:abcdefghijklmnopqrstuvwxyz").size(), 21u);
 }
 
 }  // namespace
