@@ -25,3 +25,16 @@ function(mirage_add_library name)
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:include>)
   mirage_set_warnings(mirage_${name})
 endfunction()
+
+# A static library built again without -march=native and without sanitizers, for binaries that
+# run elsewhere than the build host (the SocketCAN test binary boots under qemu's TCG CPU, which
+# lacks the host's vector extensions). mirage_add_portable_library(<name> <sources...>)
+function(mirage_add_portable_library name)
+  add_library(mirage_${name}_portable STATIC ${ARGN})
+  target_include_directories(mirage_${name}_portable PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_compile_options(mirage_${name}_portable PRIVATE -Wall -Wextra -Wconversion
+                         -Wimplicit-fallthrough -fno-math-errno)
+  if(MIRAGE_WERROR)
+    target_compile_options(mirage_${name}_portable PRIVATE -Werror)
+  endif()
+endfunction()

@@ -24,6 +24,7 @@
 #include "commands.hpp"
 #include "job.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "mirage/output/packetizer_sink.hpp"
 #include "mirage/udp/pacer.hpp"
@@ -244,7 +245,7 @@ constexpr std::int64_t kLateHandOver_ns = 1'000'000;  // behind schedule: > 1 ms
 // start lead).
 void hand_over(StreamRun& r, const wire::PacketView& p) {
     const std::uint64_t key = packet_key(p.bytes);
-    const std::int64_t now = udp::Pacer::monotonic_ns();
+    const std::int64_t now = hostclock::monotonic_ns();
     if (!r.anchored) {
         r.anchored = true;
         r.t0 = p.time;
@@ -441,7 +442,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         runs.push_back(std::move(r));
     }
     const render::Renderer& renderer = *runs.front()->job.renderer;
-    const std::int64_t rt_minus_mono = udp::realtime_minus_monotonic();
+    const std::int64_t rt_minus_mono = hostclock::realtime_minus_monotonic();
 
     std::atomic<bool> done{false};
     std::vector<std::thread> receivers, senders;

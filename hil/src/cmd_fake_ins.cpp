@@ -15,6 +15,7 @@
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navcan/slcan.hpp"
 #include "mirage/navio/fake_ins.hpp"
 #include "mirage/navpose/nav_frame.hpp"
@@ -215,7 +216,7 @@ void register_fake_ins(CLI::App& app) {
             std::fflush(stdout);
             const navio::ReplayTotals r = navio::replay_nav_log(
                 *log, stream.get(), bus.get(), o->speed, stop,
-                bytestream::monotonic_ns() + 200'000'000);  // 200 ms for a reader to attach
+                hostclock::monotonic_ns() + 200'000'000);  // 200 ms for a reader to attach
             std::printf(
                 "fake-ins: replayed %llu messages, %llu bytes, %.3f s of log, %llu "
                 "failed writes, worst lateness %.0f us%s\n",

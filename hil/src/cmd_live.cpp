@@ -15,6 +15,7 @@
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/core/trajectory.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navio/fake_ins.hpp"
 #include "mirage/navio/nav_input.hpp"
 #include "mirage/navio/nav_recorder.hpp"
@@ -265,7 +266,7 @@ void register_live(CLI::App& app) {
         // offset (lower envelope of arrival − INS time) settles on messages arriving live, then
         // fire pulse 0 at the present INS time + 20 ms (whole ms).
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
-        const std::int64_t ins_now = udp::Pacer::monotonic_ns() - nav.offset_ns().value_or(0);
+        const std::int64_t ins_now = hostclock::monotonic_ns() - nav.offset_ns().value_or(0);
         const std::int64_t t0 = (ins_now / 1'000'000 + 20) * 1'000'000;
         job.options.start = core::GpsTime(core::Nanos(t0));
 
@@ -290,7 +291,7 @@ void register_live(CLI::App& app) {
                 ++packets;
                 bytes += p.bytes.size();
                 if (first_send == 0 && p.stream == wire::Stream::Data)
-                    first_send = udp::Pacer::monotonic_ns();
+                    first_send = hostclock::monotonic_ns();
             },
             o->to);
         out.emplace(po);

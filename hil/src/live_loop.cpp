@@ -6,19 +6,12 @@
 
 #include <cstdio>
 
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/render/pipeline.hpp"
 #include "mirage/udp/pacer.hpp"
 
 namespace mirage::hil {
-namespace {
-
-void sleep_until_monotonic(std::int64_t ns) {
-    timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
-}
-
-}  // namespace
+namespace {}  // namespace
 
 LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput& out,
                     std::size_t pulses_per_window, navio::NavInput& nav,
@@ -32,7 +25,7 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput
                               job.options);
     std::vector<core::PointRecord> pts;
     render::RenderStats rstats;
-    const std::int64_t t_begin = udp::Pacer::monotonic_ns();
+    const std::int64_t t_begin = hostclock::monotonic_ns();
     std::int64_t next_status = t_begin + 1'000'000'000;
     std::uint64_t packets_at_status = 0, bytes_at_status = 0, nav_at_status = 0;
     bool stale = false;
@@ -47,7 +40,7 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput
         const core::GpsTime t_last = start + core::Nanos(spec_last.t_ns);
         if (opt.duration.count() > 0 && t_first - start >= opt.duration) break;
         const std::int64_t off = nav.offset_ns().value_or(0);
-        sleep_until_monotonic(t_last.time_since_epoch().count() + off);
+        hostclock::sleep_until_monotonic(t_last.time_since_epoch().count() + off);
 
         for (std::int64_t a : nav.take_arrivals()) pending.push_back(a);
         pts.clear();
@@ -78,7 +71,7 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput
             pending.clear();
         }
 
-        const std::int64_t now = udp::Pacer::monotonic_ns();
+        const std::int64_t now = hostclock::monotonic_ns();
         if (opt.status_line && now >= next_status) {
             const auto nc = nav.counters();
             const auto newest = poses.newest();
@@ -104,7 +97,7 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput
     if (opt.status_line) std::fprintf(stderr, "\n");
     tot.packets = packets_seen;
     tot.bytes = bytes_seen;
-    tot.seconds = double(udp::Pacer::monotonic_ns() - t_begin) / 1e9;
+    tot.seconds = double(hostclock::monotonic_ns() - t_begin) / 1e9;
     (void)out;
     return tot;
 }

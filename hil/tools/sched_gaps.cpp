@@ -23,25 +23,20 @@
 
 #include "gap_overlap.hpp"
 #include "gap_period.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 
 namespace {
 
 using mirage::hil::Gap;
 
-std::int64_t monotonic_ns() {
-    timespec t{};
-    ::clock_gettime(CLOCK_MONOTONIC, &t);
-    return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec;
-}
-
 // Spins from `start` to `end` reading the clock; returns the gaps over 10 µs (a read takes ~20 ns).
 std::vector<Gap> spin(std::int64_t start, std::int64_t end) {
     std::vector<Gap> gaps;
     gaps.reserve(1 << 16);
-    while (monotonic_ns() < start) {
+    while (mirage::hostclock::monotonic_ns() < start) {
     }
-    std::int64_t prev = monotonic_ns(), now = prev;
-    while ((now = monotonic_ns()) < end) {
+    std::int64_t prev = mirage::hostclock::monotonic_ns(), now = prev;
+    while ((now = mirage::hostclock::monotonic_ns()) < end) {
         if (now - prev > 10'000) gaps.push_back({prev, now});
         prev = now;
     }
@@ -72,7 +67,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     // All threads spin over the same span, starting 10 ms from now (after they have started).
-    const std::int64_t start = monotonic_ns() + 10'000'000;
+    const std::int64_t start = mirage::hostclock::monotonic_ns() + 10'000'000;
     const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
     std::vector<std::vector<Gap>> gaps(threads);
     std::vector<int> pin_error(threads, 0);

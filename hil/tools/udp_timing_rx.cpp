@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/pcap/pcap.hpp"
 #include "mirage/pcap/writer.hpp"
 #include "mirage/udp/pacer.hpp"
@@ -146,10 +147,10 @@ std::vector<Received> receive(const std::vector<int>& fds, const std::vector<std
     out.reserve(expected + expected / 8 + 16);
     std::vector<pollfd> pfds;
     for (int fd : fds) pfds.push_back({fd, POLLIN, 0});
-    const std::int64_t start = mirage::udp::Pacer::monotonic_ns();
+    const std::int64_t start = mirage::hostclock::monotonic_ns();
     std::int64_t last_rx_mono = 0;
     while (!g_stop.load() && out.size() < expected) {
-        const std::int64_t now = mirage::udp::Pacer::monotonic_ns();
+        const std::int64_t now = mirage::hostclock::monotonic_ns();
         if (out.empty() && now - start > static_cast<std::int64_t>(o.start_timeout_s * 1e9)) break;
         if (!out.empty() && now - last_rx_mono > static_cast<std::int64_t>(o.idle_s * 1e9)) break;
         if (::poll(pfds.data(), static_cast<nfds_t>(pfds.size()), 20) <= 0) continue;
@@ -192,7 +193,7 @@ std::vector<Received> receive(const std::vector<int>& fds, const std::vector<std
                         off += m;
                     } while (off < len);
                 }
-                last_rx_mono = mirage::udp::Pacer::monotonic_ns();
+                last_rx_mono = mirage::hostclock::monotonic_ns();
                 if (static_cast<unsigned>(n) < kBatch) break;
             }
         }

@@ -10,13 +10,9 @@
 #include <ctime>
 #include <thread>
 
-namespace mirage::bytestream {
+#include "mirage/hostclock/host_clock.hpp"
 
-std::int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
+namespace mirage::bytestream {
 
 namespace detail {
 namespace {
@@ -30,19 +26,16 @@ constexpr std::int64_t kWriteTimeoutNs = 1'000'000'000;
 // Waits for `events` on fd until the deadline; >0 ready, 0 timeout, <0 error (not EINTR).
 int wait_fd(int fd, short events, std::int64_t deadline_ns, short& revents) {
     while (true) {
-        const std::int64_t left = std::max<std::int64_t>(0, deadline_ns - monotonic_ns());
-        timespec ts{static_cast<time_t>(left / 1'000'000'000), static_cast<long>(left % 1'000'000'000)};
+        const std::int64_t left =
+            std::max<std::int64_t>(0, deadline_ns - hostclock::monotonic_ns());
+        timespec ts{static_cast<time_t>(left / 1'000'000'000),
+                    static_cast<long>(left % 1'000'000'000)};
         pollfd p{fd, events, 0};
         const int rc = ::ppoll(&p, 1, &ts, nullptr);
         if (rc < 0 && errno == EINTR) continue;
         revents = p.revents;
         return rc;
     }
-}
-
-void sleep_until_ns(std::int64_t t_ns) {
-    const std::int64_t left = t_ns - monotonic_ns();
-    if (left > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(left));
 }
 
 // errno values that mean the device or peer is gone (not a transient condition).
@@ -56,7 +49,7 @@ bool is_gone(int err) {
 
 std::int64_t deadline_after(std::chrono::nanoseconds timeout) {
     const std::int64_t t = std::clamp<std::int64_t>(timeout.count(), 0, 3'600'000'000'000);
-    return monotonic_ns() + t;
+    return hostclock::monotonic_ns() + t;
 }
 
 FdStream::FdStream(std::string name, Kind kind, bool reopenable)
@@ -76,7 +69,7 @@ void FdStream::mark_down() {
     if (!up_) return;
     up_ = false;
     ++closes_;
-    next_retry_ns_ = monotonic_ns() + backoff_ns_;
+    next_retry_ns_ = hostclock::monotonic_ns() + backoff_ns_;
 }
 
 bool FdStream::try_reopen_once() {
@@ -86,7 +79,7 @@ bool FdStream::try_reopen_once() {
         if (nfd >= 0) ::close(nfd);
         ++reopen_failures_;
         backoff_ns_ = std::min(backoff_ns_ * 2, kMaxBackoffNs);
-        next_retry_ns_ = monotonic_ns() + backoff_ns_;
+        next_retry_ns_ = hostclock::monotonic_ns() + backoff_ns_;
         return false;
     }
     ::close(nfd);
@@ -98,7 +91,8 @@ bool FdStream::try_reopen_once() {
 
 bool FdStream::reopen_until(std::int64_t deadline_ns) {
     if (!reopenable_) {
-        sleep_until_ns(deadline_ns);  // nothing will come back; do not spin the caller
+        hostclock::sleep_until_monotonic(
+            deadline_ns);  // nothing will come back; do not spin the caller
         return false;
     }
     while (true) {
@@ -106,20 +100,20 @@ bool FdStream::reopen_until(std::int64_t deadline_ns) {
         {
             std::lock_guard lock(reopen_mutex_);
             if (up_) return true;
-            if (monotonic_ns() >= next_retry_ns_ && try_reopen_once()) return true;
+            if (hostclock::monotonic_ns() >= next_retry_ns_ && try_reopen_once()) return true;
             retry = next_retry_ns_;
         }
         if (retry >= deadline_ns) {
-            sleep_until_ns(deadline_ns);
+            hostclock::sleep_until_monotonic(deadline_ns);
             return false;
         }
-        sleep_until_ns(retry);
+        hostclock::sleep_until_monotonic(retry);
     }
 }
 
 long FdStream::read_once(int fd, std::span<std::uint8_t> buffer, std::int64_t& host_ns) {
     const long r = static_cast<long>(::read(fd, buffer.data(), buffer.size()));
-    host_ns = monotonic_ns();
+    host_ns = hostclock::monotonic_ns();
     return r;
 }
 
@@ -146,7 +140,7 @@ ReadStatus FdStream::read(std::span<std::uint8_t> buffer, std::size_t& n, std::i
         }
         const int err = r < 0 ? errno : 0;
         if (r < 0 && (err == EAGAIN || err == EWOULDBLOCK || err == EINTR)) {
-            if (monotonic_ns() >= deadline) return ReadStatus::Timeout;
+            if (hostclock::monotonic_ns() >= deadline) return ReadStatus::Timeout;
             continue;
         }
         if (kind_ == Kind::Datagram && !is_gone(err)) continue;  // e.g. ECONNREFUSED (ICMP)
@@ -160,13 +154,14 @@ ReadStatus FdStream::read(std::span<std::uint8_t> buffer, std::size_t& n, std::i
 bool FdStream::write(std::span<const std::uint8_t> bytes) {
     if (!up_) {
         std::unique_lock lock(reopen_mutex_, std::try_to_lock);
-        const bool due = lock.owns_lock() && reopenable_ && monotonic_ns() >= next_retry_ns_;
+        const bool due =
+            lock.owns_lock() && reopenable_ && hostclock::monotonic_ns() >= next_retry_ns_;
         if (!up_ && !(due && try_reopen_once())) {
             ++write_failures_;
             return false;
         }
     }
-    const std::int64_t deadline = monotonic_ns() + kWriteTimeoutNs;
+    const std::int64_t deadline = hostclock::monotonic_ns() + kWriteTimeoutNs;
     std::size_t off = 0;
     while (off < bytes.size() || (bytes.empty() && kind_ == Kind::Datagram && off == 0)) {
         const std::size_t want = bytes.size() - off;

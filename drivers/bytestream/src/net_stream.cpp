@@ -16,6 +16,7 @@
 
 #include "fd_stream.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "streams.hpp"
 
 namespace mirage::bytestream::detail {
@@ -44,8 +45,8 @@ std::string resolve(const std::string& host, std::uint16_t port, int socktype, b
     hints.ai_flags = AI_NUMERICSERV | (passive ? AI_PASSIVE : 0);
     if (passive && host.empty()) hints.ai_family = AF_INET;  // "udp://:3000": 0.0.0.0
     const std::string service = std::to_string(port);
-    const int rc = ::getaddrinfo(host.empty() ? nullptr : host.c_str(), service.c_str(), &hints,
-                                 &out.head);
+    const int rc =
+        ::getaddrinfo(host.empty() ? nullptr : host.c_str(), service.c_str(), &hints, &out.head);
     return rc == 0 ? std::string() : std::string(::gai_strerror(rc));
 }
 
@@ -65,8 +66,8 @@ int connect_tcp(const std::string& host, std::uint16_t port, int timeout_ms, std
     if (!error.empty()) return -1;
     error = "no address";
     for (addrinfo* a = addrs.head; a != nullptr; a = a->ai_next) {
-        const int fd = ::socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC,
-                                a->ai_protocol);
+        const int fd =
+            ::socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, a->ai_protocol);
         if (fd < 0) {
             error = std::string("socket: ") + std::strerror(errno);
             continue;
@@ -173,7 +174,7 @@ class UdpSocket final : public FdStream {
         msg.msg_control = control;
         msg.msg_controllen = sizeof control;
         const long n = static_cast<long>(::recvmsg(fd, &msg, MSG_DONTWAIT));
-        const std::int64_t mono0 = monotonic_ns();
+        const std::int64_t mono0 = hostclock::monotonic_ns();
         host_ns = mono0;
         if (n < 0) return n;
         for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
@@ -181,10 +182,12 @@ class UdpSocket final : public FdStream {
             timespec kt{}, rt{};
             std::memcpy(&kt, CMSG_DATA(c), sizeof kt);
             clock_gettime(CLOCK_REALTIME, &rt);
-            const std::int64_t mono1 = monotonic_ns();
-            const std::int64_t rt_ns = static_cast<std::int64_t>(rt.tv_sec) * 1'000'000'000 + rt.tv_nsec;
+            const std::int64_t mono1 = hostclock::monotonic_ns();
+            const std::int64_t rt_ns =
+                static_cast<std::int64_t>(rt.tv_sec) * 1'000'000'000 + rt.tv_nsec;
             const std::int64_t offset = rt_ns - (mono0 + (mono1 - mono0) / 2);
-            const std::int64_t k_ns = static_cast<std::int64_t>(kt.tv_sec) * 1'000'000'000 + kt.tv_nsec;
+            const std::int64_t k_ns =
+                static_cast<std::int64_t>(kt.tv_sec) * 1'000'000'000 + kt.tv_nsec;
             host_ns = std::min(k_ns - offset, mono1);
         }
         return n;

@@ -19,6 +19,7 @@
 
 #include "gsusb_protocol.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 
 namespace mirage::can {
 namespace {
@@ -30,12 +31,6 @@ constexpr unsigned kControlTimeoutMs = 1000;
 constexpr unsigned kTxTimeoutMs = 1000;
 constexpr std::size_t kMaxQueued = 65536;  // received frames nobody collected; oldest dropped
 constexpr int kMaxConsecutiveRxErrors = 16;
-
-std::int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 std::string device_label(const GsUsbOptions& o) {
     return fmt::format("{:04x}:{:04x}", o.vendor_id, o.product_id);
@@ -398,7 +393,7 @@ void GsUsbBus::take_packet(const std::uint8_t* p, std::size_t n, std::int64_t ho
 }
 
 void GsUsbBus::handle_rx(libusb_transfer* t) {
-    const std::int64_t now = monotonic_ns();
+    const std::int64_t now = hostclock::monotonic_ns();
     std::lock_guard lock(mutex_);
     bool resubmit = !stopping_ && !closed_;
     switch (t->status) {

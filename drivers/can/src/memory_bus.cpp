@@ -10,15 +10,10 @@
 #include <vector>
 
 #include "bus_counting.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 
 namespace mirage::can {
 namespace {
-
-std::int64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 struct Port;
 
@@ -80,7 +75,7 @@ class MemoryBus final : public CanBus {
             ++port_.counters.tx_failed;
             return false;
         }
-        const Entry e{frame, now_ns()};
+        const Entry e{frame, hostclock::monotonic_ns()};
         {
             std::lock_guard lock(hub_->mutex);
             for (Port* p : hub_->ports) {

@@ -12,6 +12,7 @@
 #include "bus_counting.hpp"
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navcan/slcan.hpp"
 
 namespace mirage::can {
@@ -85,15 +86,38 @@ bool parse_error_line(std::string_view line, nav::CanFrame& out) {
     out = error_frame(0);
     for (char c : line.substr(2)) {
         switch (c) {
-            case 'a': out.id |= err::kNoAck; break;
-            case 'b': out.id |= err::kProtocol | err::kBusError; out.data[2] |= err::kProtBit0; break;
-            case 'B': out.id |= err::kProtocol | err::kBusError; out.data[2] |= err::kProtBit1; break;
-            case 'c': out.id |= err::kProtocol | err::kBusError; break;  // CRC: location bits only
-            case 'f': out.id |= err::kProtocol | err::kBusError; out.data[2] |= err::kProtForm; break;
-            case 's': out.id |= err::kProtocol | err::kBusError; out.data[2] |= err::kProtStuff; break;
-            case 'o': out.id |= err::kController; out.data[1] |= err::kCtrlRxOverflow; break;
-            case 'O': out.id |= err::kController; out.data[1] |= err::kCtrlTxOverflow; break;
-            default: return false;
+            case 'a':
+                out.id |= err::kNoAck;
+                break;
+            case 'b':
+                out.id |= err::kProtocol | err::kBusError;
+                out.data[2] |= err::kProtBit0;
+                break;
+            case 'B':
+                out.id |= err::kProtocol | err::kBusError;
+                out.data[2] |= err::kProtBit1;
+                break;
+            case 'c':
+                out.id |= err::kProtocol | err::kBusError;
+                break;  // CRC: location bits only
+            case 'f':
+                out.id |= err::kProtocol | err::kBusError;
+                out.data[2] |= err::kProtForm;
+                break;
+            case 's':
+                out.id |= err::kProtocol | err::kBusError;
+                out.data[2] |= err::kProtStuff;
+                break;
+            case 'o':
+                out.id |= err::kController;
+                out.data[1] |= err::kCtrlRxOverflow;
+                break;
+            case 'O':
+                out.id |= err::kController;
+                out.data[1] |= err::kCtrlTxOverflow;
+                break;
+            default:
+                return false;
         }
     }
     return true;
@@ -116,7 +140,8 @@ class SlcanBus final : public CanBus {
     }
 
     bool send(const nav::CanFrame& frame) override {
-        const std::string line = frame.error || frame.len > 8 ? std::string() : navcan::slcan_encode(frame);
+        const std::string line =
+            frame.error || frame.len > 8 ? std::string() : navcan::slcan_encode(frame);
         bool ok = !line.empty();
         if (ok) {
             std::lock_guard lock(tx_mutex_);
@@ -129,7 +154,8 @@ class SlcanBus final : public CanBus {
     RxStatus receive(nav::CanFrame& out, std::int64_t& host_ns,
                      std::chrono::nanoseconds timeout) override {
         std::lock_guard lock(rx_mutex_);
-        const std::int64_t deadline = bytestream::monotonic_ns() + std::max<std::int64_t>(0, timeout.count());
+        const std::int64_t deadline =
+            hostclock::monotonic_ns() + std::max<std::int64_t>(0, timeout.count());
         for (bool first = true;; first = false) {
             if (!pending_.empty()) {
                 out = pending_.front().frame;
@@ -138,7 +164,8 @@ class SlcanBus final : public CanBus {
                 return counters_.count_rx(out);
             }
             // A zero timeout still polls the line once.
-            const std::int64_t left = std::max<std::int64_t>(0, deadline - bytestream::monotonic_ns());
+            const std::int64_t left =
+                std::max<std::int64_t>(0, deadline - hostclock::monotonic_ns());
             if (left == 0 && !first) return RxStatus::Timeout;
             std::size_t n = 0;
             std::int64_t t_ns = 0;

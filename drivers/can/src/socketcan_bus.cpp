@@ -18,6 +18,7 @@
 #include <string>
 
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 
 namespace mirage::can {
 namespace {
@@ -26,12 +27,6 @@ namespace {
 std::string errno_text(int err) {
     const char* name = ::strerrorname_np(err);
     return std::string(std::strerror(err)) + " (" + (name ? name : std::to_string(err)) + ")";
-}
-
-std::int64_t monotonic_ns() {
-    timespec ts{};
-    ::clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
 // Errors after which the socket no longer delivers frames from the bus until it is reopened:
@@ -79,12 +74,12 @@ class SocketCanBus final : public CanBus {
         // Clamped so that nanoseconds::max() means "wait (practically) forever", not overflow.
         const std::int64_t wait_ns = std::clamp<std::int64_t>(
             static_cast<std::int64_t>(timeout.count()), 0, std::int64_t{1} << 62);
-        const std::int64_t deadline = monotonic_ns() + wait_ns;
+        const std::int64_t deadline = hostclock::monotonic_ns() + wait_ns;
         for (;;) {
             can_frame raw{};
             const ssize_t n = ::read(fd_, &raw, sizeof raw);
             if (n == static_cast<ssize_t>(sizeof raw)) {
-                host_ns = monotonic_ns();
+                host_ns = hostclock::monotonic_ns();
                 return convert(raw, out);
             }
             const int err = n < 0 ? errno : 0;
@@ -95,7 +90,7 @@ class SocketCanBus final : public CanBus {
             // come from the bus; it and any other socket error are counted, and the deadline
             // still holds.
             if (!drained) ++malformed_;
-            const std::int64_t left = deadline - monotonic_ns();
+            const std::int64_t left = deadline - hostclock::monotonic_ns();
             if (left <= 0) return RxStatus::Timeout;
             if (!drained) continue;
             pollfd pfd{fd_, POLLIN, 0};

@@ -10,6 +10,7 @@
 
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 
 namespace mirage::navio {
 
@@ -52,15 +53,10 @@ FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, cor
         const core::GpsTime t = t0 + core::Nanos(static_cast<std::int64_t>(i) * period_ns);
         if (cfg_.duration.count() > 0 && t - t0 > cfg_.duration) break;
         const std::int64_t unix_ns = core::unix_ns_from_gps(t);
-        timespec ts{static_cast<time_t>(unix_ns / 1'000'000'000),
-                    static_cast<long>(unix_ns % 1'000'000'000)};
-        while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-        }
+        hostclock::sleep_until_realtime(unix_ns);
         // A blocked writer (a pty nobody reads fills up) must not stretch the schedule: epochs
         // already 100 ms past are skipped, as an INS does not queue old solutions.
-        timespec now{};
-        clock_gettime(CLOCK_REALTIME, &now);
-        if (std::int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec > unix_ns + 100'000'000) {
+        if (hostclock::realtime_ns() > unix_ns + 100'000'000) {
             ++tot.skipped;
             continue;
         }
@@ -111,23 +107,14 @@ FakeInsTotals FakeIns::run(bytestream::ByteStream* stream, can::CanBus* bus, cor
 }  // namespace mirage::navio
 
 namespace mirage::navio {
-namespace {
-
-void sleep_until_monotonic(std::int64_t ns) {
-    const timespec ts{static_cast<time_t>(ns / 1'000'000'000),
-                      static_cast<long>(ns % 1'000'000'000)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
-}
-
-}  // namespace
+namespace {}  // namespace
 
 ReplayTotals replay_nav_log(const navproto::NavLog& log, bytestream::ByteStream* stream,
                             can::CanBus* bus, double speed, const std::atomic<bool>& stop,
                             std::int64_t start_ns) {
     ReplayTotals tot;
     if (!(speed > 0)) speed = 1.0;
-    if (start_ns == 0) start_ns = bytestream::monotonic_ns();
+    if (start_ns == 0) start_ns = hostclock::monotonic_ns();
     const bool frames = navproto::is_can(log.protocol);
     const std::size_t n = frames ? log.frames.size() : log.messages.size();
     const auto time_of = [&](std::size_t i) -> std::int64_t {
@@ -147,8 +134,8 @@ ReplayTotals replay_nav_log(const navproto::NavLog& log, bytestream::ByteStream*
         const std::int64_t due =
             std::max(last, start_ns + static_cast<std::int64_t>(std::llround(double(rel) / speed)));
         last = due;
-        sleep_until_monotonic(due);
-        tot.worst_late_ns = std::max(tot.worst_late_ns, bytestream::monotonic_ns() - due);
+        hostclock::sleep_until_monotonic(due);
+        tot.worst_late_ns = std::max(tot.worst_late_ns, hostclock::monotonic_ns() - due);
         if (frames) {
             const nav::CanFrame& f = log.frames[i].stamped.frame;
             if (!bus || !bus->send(f)) ++tot.write_failures;

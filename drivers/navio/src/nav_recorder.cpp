@@ -12,6 +12,7 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navcan/candump.hpp"
 
 namespace mirage::navio {
@@ -19,12 +20,6 @@ namespace {
 
 constexpr std::size_t kFlushBytes = 64 * 1024;
 constexpr auto kFlushEvery = std::chrono::milliseconds(500);
-
-std::int64_t clock_ns(clockid_t id) {
-    timespec ts{};
-    ::clock_gettime(id, &ts);
-    return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 double deg(double rad) { return rad * 180.0 / M_PI; }
 
@@ -109,7 +104,7 @@ void PoseLog::attitude(const nav::NavSample& s, const Eigen::Quaterniond& q) {
 NavRecorder::NavRecorder(const std::string& path, std::string can_ifname)
     : file_(path, fmt::format("live: --nav-record '{}'", path)),
       ifname_(std::move(can_ifname)),
-      realtime_offset_ns_(clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC)) {}
+      realtime_offset_ns_(hostclock::realtime_minus_monotonic()) {}
 
 void NavRecorder::bytes(std::span<const std::uint8_t> data) {
     file_.append(std::string_view(reinterpret_cast<const char*>(data.data()), data.size()));

@@ -7,6 +7,7 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 
 namespace mirage::output {
@@ -83,7 +84,7 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
         }
     }
     if (opt_.realtime && !pacer_.anchored())
-        pacer_.anchor(packet.time, udp::Pacer::monotonic_ns() + opt_.start_lead.count());
+        pacer_.anchor(packet.time, hostclock::monotonic_ns() + opt_.start_lead.count());
     if (shared_) {
         // The sending thread paces; this thread only waits while it is a horizon ahead.
         shared_->sender->submit(shared_->id, packet.stream, pacer_.deadline_ns(packet.time),

@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/pcap/writer.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/udp_receiver.hpp"
@@ -106,7 +107,7 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
     std::vector<pollfd> pfds;
     for (int fd : fds_) pfds.push_back({fd, POLLIN, 0});
 
-    const std::int64_t start = udp::Pacer::monotonic_ns();
+    const std::int64_t start = hostclock::monotonic_ns();
     std::int64_t last_flush = start, last_status = start;
     auto fail_write = [&](const std::string& why) {
         res.error = why;
@@ -122,7 +123,7 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
     };
     bool failed = false;
     while (!stop.load(std::memory_order_relaxed)) {
-        const std::int64_t now = udp::Pacer::monotonic_ns();
+        const std::int64_t now = hostclock::monotonic_ns();
         if (config_.duration_ns >= 0 && now - start >= config_.duration_ns) break;
         if (now - last_flush >= config_.flush_interval_ns) {
             last_flush = now;
@@ -173,7 +174,7 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
                         dst = pi.ipi_addr;
                     }
                 }
-                if (time_ns == 0) time_ns = udp::realtime_ns();  // no kernel stamp: now
+                if (time_ns == 0) time_ns = hostclock::realtime_ns();  // no kernel stamp: now
                 if (h.msg_flags & MSG_TRUNC) ++res.truncated;
                 const auto len = msgs[static_cast<std::size_t>(k)].msg_len;
                 const auto& f = from[static_cast<std::size_t>(k)];

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/replay/batch_sender.hpp"
 #include "mirage/udp/pacer.hpp"
 
@@ -17,26 +18,6 @@ namespace mirage::replay {
 namespace {
 
 using udp::Pacer;
-
-// Sleeps (absolute CLOCK_MONOTONIC) to spin_ns before the deadline, in slices so a stop request
-// is seen within 100 ms, then spins. Returns false when stopped.
-bool wait_until(std::int64_t deadline, std::int64_t spin_ns, const std::atomic<bool>* stop) {
-    for (;;) {
-        const std::int64_t now = Pacer::monotonic_ns();
-        if (now >= deadline) return true;
-        if (stop && stop->load(std::memory_order_relaxed)) return false;
-        const std::int64_t wake = std::min(deadline - spin_ns, now + 100'000'000);
-        if (wake > now) {
-            timespec ts{static_cast<time_t>(wake / 1'000'000'000),
-                        static_cast<long>(wake % 1'000'000'000)};
-            ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-            continue;
-        }
-        while (Pacer::monotonic_ns() < deadline) {
-        }
-        return true;
-    }
-}
 
 class Scheduler {
   public:
@@ -70,14 +51,14 @@ class Scheduler {
     bool send_next() {
         std::size_t n = 0;
         std::int64_t send_time = 0;
-        if (anchor_ < 0) anchor_ = Pacer::monotonic_ns() + c_.lead_ns - queue_.front().time_ns;
+        if (anchor_ < 0) anchor_ = hostclock::monotonic_ns() + c_.lead_ns - queue_.front().time_ns;
         if (top_) {
             n = std::min(queue_.size(), kTopBatch);
-            send_time = Pacer::monotonic_ns();
+            send_time = hostclock::monotonic_ns();
         } else {
             const std::int64_t first = deadline(queue_.front().time_ns);
-            if (!wait_until(first, c_.spin_ns, stop_)) return false;
-            send_time = Pacer::monotonic_ns();
+            if (!hostclock::wait_until_monotonic(first, c_.spin_ns, stop_)) return false;
+            send_time = hostclock::monotonic_ns();
             // Everything already due goes in the same system call.
             n = 1;
             while (n < queue_.size() && n < BatchSender::kMaxBatch &&

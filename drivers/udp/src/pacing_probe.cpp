@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/udp_receiver.hpp"
 #include "mirage/udp/udp_sender.hpp"
@@ -76,11 +77,11 @@ PacingProbeReport run_pacing_probe(const PacingProbeConfig& config) {
             fmt::print(stderr, "pacing probe: SCHED_FIFO {} not set: {}\n", config.fifo_priority,
                        why);
     }
-    const std::int64_t offset = realtime_minus_monotonic();
+    const std::int64_t offset = hostclock::realtime_minus_monotonic();
     Pacer pacer(PacerConfig{false, core::Nanos{50'000}, config.late_threshold});
     const core::GpsTime t0{};
     // Start 10 ms ahead so the first packets are not late because of thread start-up.
-    pacer.anchor(t0, Pacer::monotonic_ns() + 10'000'000);
+    pacer.anchor(t0, hostclock::monotonic_ns() + 10'000'000);
     std::vector<std::uint8_t> payload(std::max<std::size_t>(config.payload_bytes, 8), 0);
     for (std::uint64_t k = 0; k < config.packets; ++k) {
         const core::GpsTime t = t0 + period(k);

@@ -15,6 +15,7 @@
 #include <ctime>
 
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 
@@ -50,12 +51,6 @@ inline void cpu_relax() {
 #elif defined(__aarch64__)
     asm volatile("yield");
 #endif
-}
-
-void sleep_until_ns(std::int64_t until_ns) {
-    const timespec ts = to_timespec(until_ns);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
 }
 
 }  // namespace
@@ -163,9 +158,9 @@ double SharedSender::cpu_seconds() const {
 bool SharedSender::submit(ChannelId id, wire::Stream stream, std::int64_t deadline_ns,
                           std::span<const std::uint8_t> bytes) {
     // Backpressure 1: stay at most `horizon` ahead of the schedule (no lock held while asleep).
-    if (deadline_ns - Pacer::monotonic_ns() > config_.horizon.count()) {
+    if (deadline_ns - hostclock::monotonic_ns() > config_.horizon.count()) {
         horizon_waits_.fetch_add(1, std::memory_order_relaxed);
-        sleep_until_ns(deadline_ns - config_.horizon.count());
+        hostclock::sleep_until_monotonic(deadline_ns - config_.horizon.count());
     }
     std::unique_lock lock(mutex_);
     if (id >= channels_.size() || channels_[id]->dest == nullptr) return false;
@@ -219,7 +214,7 @@ void SharedSender::sleep_until(std::int64_t wake_ns, std::unique_lock<std::mutex
         const std::uint32_t seen = futex_word_.load(std::memory_order_acquire);
         lock.unlock();
         futex_wait_until(futex_word_, seen, wake_ns);
-        const std::int64_t woke = Pacer::monotonic_ns();
+        const std::int64_t woke = hostclock::monotonic_ns();
         lock.lock();
         // A submit that moved the plan (planned_wake_ns_ reset) cut the sleep short on purpose.
         if (wake_ns != INT64_MAX && planned_wake_ns_ == wake_ns && woke >= wake_ns)
@@ -261,7 +256,7 @@ void SharedSender::run() {
         }
         const Entry top = heap_.front();
         const std::int64_t wake = top.deadline_ns - margin;
-        if (Pacer::monotonic_ns() < wake) {
+        if (hostclock::monotonic_ns() < wake) {
             sleep_until(wake, lock);
             continue;  // re-plan: an earlier packet may have arrived
         }
@@ -273,16 +268,16 @@ void SharedSender::run() {
 
         // The last microseconds: spinning is exact where a timer wake-up is not. The pause
         // hint leaves the core's execution units to a hyper-thread sibling (a renderer).
-        std::int64_t now = Pacer::monotonic_ns();
+        std::int64_t now = hostclock::monotonic_ns();
         while (now < top.deadline_ns) {
             cpu_relax();
-            now = Pacer::monotonic_ns();
+            now = hostclock::monotonic_ns();
         }
         const core::Nanos lateness{now - top.deadline_ns};
         const Slot& slot = slots_[top.slot];
         const bool ok =
             dest != nullptr && dest->send(slot.stream, std::span(slot.bytes.data(), slot.size));
-        ch->send_ns.add(core::Nanos{Pacer::monotonic_ns() - now});
+        ch->send_ns.add(core::Nanos{hostclock::monotonic_ns() - now});
         ch->stats.add(lateness);
         (ok ? ch->sent : ch->failed).fetch_add(1, std::memory_order_relaxed);
         if (lateness > ch->stats.threshold()) ch->late.fetch_add(1, std::memory_order_relaxed);

@@ -30,12 +30,6 @@ in_addr parse_v4(const std::string& text, const char* what) {
 
 }  // namespace
 
-std::int64_t realtime_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
 UdpReceiver::UdpReceiver(const ReceiverConfig& config) {
     const bool multicast = !config.multicast_group.empty();
     const std::string bind_text = multicast ? "0.0.0.0" : config.bind_address;
@@ -119,20 +113,6 @@ std::size_t UdpReceiver::drain() {
     char buf[64];
     while (::recv(fd_, buf, sizeof buf, MSG_DONTWAIT) >= 0) ++n;
     return n;
-}
-
-std::int64_t realtime_minus_monotonic() {
-    std::int64_t best_gap = INT64_MAX, offset = 0;
-    for (int i = 0; i < 16; ++i) {
-        const std::int64_t m0 = Pacer::monotonic_ns();
-        const std::int64_t r = realtime_ns();
-        const std::int64_t m1 = Pacer::monotonic_ns();
-        if (m1 - m0 < best_gap) {
-            best_gap = m1 - m0;
-            offset = r - (m0 + (m1 - m0) / 2);
-        }
-    }
-    return offset;
 }
 
 }  // namespace mirage::udp

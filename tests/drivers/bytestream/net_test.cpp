@@ -11,6 +11,7 @@
 
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "stream_test_util.hpp"
 
 namespace mirage::bytestream {
@@ -105,9 +106,7 @@ TEST(TcpStream, refused_connection_is_an_io_error_naming_the_endpoint) {
         FAIL() << "no IoError";
     } catch (const IoError& e) {
         const std::string msg = e.what();
-        EXPECT_NE(msg.find(at("tcp '127.0.0.1:", refusing.port) + "'"),
-                  std::string::npos)
-            << msg;
+        EXPECT_NE(msg.find(at("tcp '127.0.0.1:", refusing.port) + "'"), std::string::npos) << msg;
         EXPECT_NE(msg.find("refused"), std::string::npos) << msg;
     }
 }
@@ -124,11 +123,11 @@ TEST(UdpStream, delivers_each_datagram_whole_with_a_monotonic_receive_time) {
     std::int64_t host_ns = 0;
     EXPECT_EQ(rx->read(buf, n, host_ns, 20ms), ReadStatus::Timeout);
 
-    const std::int64_t before = monotonic_ns();
+    const std::int64_t before = hostclock::monotonic_ns();
     const std::string d1(72, 'N');  // an NCOM-sized datagram
     ASSERT_TRUE(tx->write(bytes_of(d1)));
     ASSERT_TRUE(tx->write(bytes_of("ab")));
-    ASSERT_TRUE(tx->write(bytes_of("")));        // an empty datagram is still one datagram
+    ASSERT_TRUE(tx->write(bytes_of("")));  // an empty datagram is still one datagram
     ASSERT_TRUE(tx->write(bytes_of(std::string(200, 'x'))));  // longer than the buffer
     ASSERT_TRUE(tx->write(bytes_of("end")));
 
@@ -137,7 +136,7 @@ TEST(UdpStream, delivers_each_datagram_whole_with_a_monotonic_receive_time) {
     EXPECT_EQ(std::string(reinterpret_cast<char*>(buf), n), d1);
     // Kernel receive time moved onto CLOCK_MONOTONIC: after the send started, not in the future.
     EXPECT_GE(host_ns, before - 1'000'000);  // 1 ms slack for the realtime/monotonic offset
-    EXPECT_LE(host_ns, monotonic_ns());
+    EXPECT_LE(host_ns, hostclock::monotonic_ns());
     ASSERT_EQ(rx->read(buf, n, host_ns, 2s), ReadStatus::Data);
     EXPECT_EQ(std::string(reinterpret_cast<char*>(buf), n), "ab");
     ASSERT_EQ(rx->read(buf, n, host_ns, 2s), ReadStatus::Data);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "mirage/bytestream/byte_stream.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "stream_test_util.hpp"
 #include "test_paths.hpp"
 
@@ -87,7 +88,8 @@ TEST(PtyStream, seven_bit_framing_carries_ascii_nmea) {
     auto serial = open_byte_stream("serial:" + pty.slave_path + "?baud=4800&bits=7&parity=even");
     const termios tio = termios_of(pty.slave_path);
     EXPECT_EQ(cfgetospeed(&tio), static_cast<speed_t>(B4800));
-    const std::string line = "$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47\r\n";
+    const std::string line =
+        "$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47\r\n";
     ASSERT_TRUE(pty.master->write(bytes_of(line)));
     EXPECT_EQ(read_exactly(*serial, line.size()), line);
 }
@@ -101,13 +103,13 @@ TEST(PtyStream, read_times_out_with_nothing_written) {
     EXPECT_EQ(serial->read(buf, n, host_ns, 20ms), ReadStatus::Timeout);
     EXPECT_EQ(n, 0u);
     // Bytes written before the read are there; host_ns is a CLOCK_MONOTONIC reading.
-    const std::int64_t before = monotonic_ns();
+    const std::int64_t before = hostclock::monotonic_ns();
     ASSERT_TRUE(pty.master->write(bytes_of("x")));
     ASSERT_EQ(serial->read(buf, n, host_ns, 2s), ReadStatus::Data);
     EXPECT_EQ(n, 1u);
     EXPECT_EQ(buf[0], 'x');
     EXPECT_GE(host_ns, before);
-    EXPECT_LE(host_ns, monotonic_ns());
+    EXPECT_LE(host_ns, hostclock::monotonic_ns());
 }
 
 TEST(PtyStream, bytes_written_before_the_reader_opens_wait_for_it) {

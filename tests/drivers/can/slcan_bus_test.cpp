@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // SlcanBus against a scripted peer: the pty master plays the adapter (nav-protocols.md §9).
+#include "mirage/can/slcan_bus.hpp"
+
 #include <gtest/gtest.h>
 
 #include <deque>
@@ -10,7 +12,7 @@
 
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
-#include "mirage/can/slcan_bus.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::can {
@@ -91,13 +93,14 @@ TEST(SlcanBus, frames_cross_the_line_both_ways) {
     ASSERT_EQ(read_exactly(*pty.master, 7), "C\rS6\rO\r");
 
     // Adapter -> host: OK replies to the three commands, then two frames.
-    ASSERT_TRUE(pty.master->write(bytes_of("\r\r\rt6076F8207800CEFF\rT18FF50E58AABBCCDD11223344\r")));
+    ASSERT_TRUE(
+        pty.master->write(bytes_of("\r\r\rt6076F8207800CEFF\rT18FF50E58AABBCCDD11223344\r")));
     nav::CanFrame got;
     std::int64_t host_ns = 0;
-    const std::int64_t before = bytestream::monotonic_ns();
+    const std::int64_t before = hostclock::monotonic_ns();
     ASSERT_EQ(bus->receive(got, host_ns, 2s), RxStatus::Frame);
     EXPECT_EQ(got, frame_607());
-    EXPECT_LE(host_ns, bytestream::monotonic_ns());
+    EXPECT_LE(host_ns, hostclock::monotonic_ns());
     EXPECT_GT(host_ns, before - 1'000'000'000);
     ASSERT_EQ(bus->receive(got, host_ns, 2s), RxStatus::Frame);
     EXPECT_EQ(got, frame_ext());
@@ -204,7 +207,7 @@ class ChunkedStream final : public ByteStream {
     ReadStatus read(std::span<std::uint8_t> buffer, std::size_t& n, std::int64_t& host_ns,
                     std::chrono::nanoseconds) override {
         n = 0;
-        host_ns = bytestream::monotonic_ns();
+        host_ns = hostclock::monotonic_ns();
         if (pos_ >= script_.size()) return ReadStatus::Timeout;
         std::size_t take = cuts_.empty() ? script_.size() - pos_ : cuts_.front();
         if (!cuts_.empty()) cuts_.pop_front();

@@ -15,6 +15,7 @@
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navcan/candump.hpp"
 #include "mirage/navio/fake_ins.hpp"
 #include "mirage/navproto/nav_log.hpp"
@@ -62,7 +63,7 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     auto pty = bytestream::open_pty();
     auto reader = bytestream::open_byte_stream(pty.slave_path + "?baud=115200");
     std::atomic<bool> stop{false};
-    const std::int64_t start = bytestream::monotonic_ns() + kLeadNs;
+    const std::int64_t start = hostclock::monotonic_ns() + kLeadNs;
     auto sender = std::async(std::launch::async, [&] {
         return navio::replay_nav_log(log, pty.master.get(), nullptr, 1.0, stop, start);
     });
@@ -71,7 +72,7 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     std::string pending, all;
     std::vector<std::uint8_t> buf(4096);
     const std::int64_t give_up = start + 10'000'000'000;
-    while (got.size() < want.size() && bytestream::monotonic_ns() < give_up) {
+    while (got.size() < want.size() && hostclock::monotonic_ns() < give_up) {
         std::size_t n = 0;
         std::int64_t host_ns = 0;
         if (reader->read(buf, n, host_ns, std::chrono::milliseconds(100)) !=
@@ -151,7 +152,7 @@ TEST(NavLogReplay, candump_log_onto_a_memory_bus_gives_the_same_frames_on_the_lo
     auto tx = can::open_can_bus("memory:navlog-replay");
     auto rx = can::open_can_bus("memory:navlog-replay");
     std::atomic<bool> stop{false};
-    const std::int64_t start = bytestream::monotonic_ns() + kLeadNs;
+    const std::int64_t start = hostclock::monotonic_ns() + kLeadNs;
     auto sender = std::async(std::launch::async, [&] {
         return navio::replay_nav_log(log, nullptr, tx.get(), 1.0, stop, start);
     });
@@ -159,7 +160,7 @@ TEST(NavLogReplay, candump_log_onto_a_memory_bus_gives_the_same_frames_on_the_lo
     // on the same monotonic clock as `start`, so the receiver's own wake-ups do not enter.
     std::vector<std::int64_t> late;
     const std::int64_t give_up = start + 5'000'000'000;
-    while (late.size() < sent.size() && bytestream::monotonic_ns() < give_up) {
+    while (late.size() < sent.size() && hostclock::monotonic_ns() < give_up) {
         nav::CanFrame f;
         std::int64_t host_ns = 0;
         if (rx->receive(f, host_ns, std::chrono::milliseconds(100)) != can::RxStatus::Frame)
@@ -201,12 +202,12 @@ TEST(NavLogReplay, speed_factor_compresses_the_schedule) {
     auto tx = can::open_can_bus("memory:navlog-speed");
     auto rx = can::open_can_bus("memory:navlog-speed");
     std::atomic<bool> stop{false};
-    const std::int64_t start = bytestream::monotonic_ns() + kLeadNs;
+    const std::int64_t start = hostclock::monotonic_ns() + kLeadNs;
     auto sender = std::async(std::launch::async, [&] {
         return navio::replay_nav_log(log, nullptr, tx.get(), 4.0, stop, start);
     });
     std::vector<std::int64_t> at;
-    while (at.size() < 11 && bytestream::monotonic_ns() < start + 3'000'000'000) {
+    while (at.size() < 11 && hostclock::monotonic_ns() < start + 3'000'000'000) {
         nav::CanFrame f;
         std::int64_t host_ns = 0;
         if (rx->receive(f, host_ns, std::chrono::milliseconds(100)) == can::RxStatus::Frame)

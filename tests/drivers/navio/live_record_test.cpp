@@ -18,6 +18,7 @@
 
 #include "cli_run.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navcan/candump.hpp"
 #include "mirage/navcan/oxts_can.hpp"
 #include "mirage/navio/nav_recorder.hpp"
@@ -57,12 +58,6 @@ std::vector<std::string> lines_of(const std::string& text) {
     std::istringstream in(text);
     for (std::string l; std::getline(in, l);) out.push_back(l);
     return out;
-}
-
-std::int64_t realtime_ns() {
-    timespec ts{};
-    ::clock_gettime(CLOCK_REALTIME, &ts);
-    return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
 TEST(LiveRecord, nmea_raw_capture_decodes_to_the_samples_live_applied) {
@@ -125,11 +120,11 @@ TEST(LiveRecord, can_candump_log_parses_back_to_the_frames_the_bus_delivered) {
     TempDir tmp;
     const std::string scene = tmp.file("yard.yaml"), rec = tmp.file("nav.log");
     std::ofstream(scene) << kScene;
-    const std::int64_t before = realtime_ns();
+    const std::int64_t before = hostclock::realtime_ns();
     const RunResult r = run_mirage("live --scene " + scene +
                                    " --nav oxts-can:memory:vcan0 --fake-ins static:0,0,1.8,0,0,30" +
                                    kLive + " --nav-record " + rec);
-    const std::int64_t after = realtime_ns();
+    const std::int64_t after = hostclock::realtime_ns();
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::uint64_t rx = figure(r.output, "nav bus: rx frames ([0-9]+)");
     const std::uint64_t err = figure(r.output, "error frames ([0-9]+),");

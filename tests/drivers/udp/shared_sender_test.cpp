@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/udp_receiver.hpp"
 #include "mirage/udp/udp_sender.hpp"
@@ -90,8 +91,8 @@ TEST_P(SharedSenderTwoStreams, delivers_both_rates_complete_in_order_and_never_e
     const auto ca = ss.open(tx_a);
     const auto cb = ss.open(tx_b);
     EXPECT_NE(ca, cb);
-    const std::int64_t offset = mirage::udp::realtime_minus_monotonic();
-    const std::int64_t t0 = Pacer::monotonic_ns() + 5'000'000;
+    const std::int64_t offset = mirage::hostclock::realtime_minus_monotonic();
+    const std::int64_t t0 = mirage::hostclock::monotonic_ns() + 5'000'000;
 
     std::vector<Arrival> got_a, got_b;
     std::thread recv_a([&] { got_a = receive_n(rx_a, 1, kA); });
@@ -163,7 +164,7 @@ TEST(SharedSender, sends_packets_of_two_channels_in_global_deadline_order) {
     SharedSender ss(cfg);
     const auto ca = ss.open(tx_a);
     const auto cb = ss.open(tx_b);
-    const std::int64_t t0 = Pacer::monotonic_ns() + 300'000'000;
+    const std::int64_t t0 = mirage::hostclock::monotonic_ns() + 300'000'000;
     // A: k = 0..39 at 100 µs steps, B: k = 0..19 at 230 µs steps (B's k = 10 ties A's 23),
     // submitted B last-first, then A first-last.
     std::vector<std::pair<std::int64_t, std::uint32_t>> expected;  // (deadline, tag << 16 | k)
@@ -178,7 +179,8 @@ TEST(SharedSender, sends_packets_of_two_channels_in_global_deadline_order) {
     // The tie (t0 + 2.3 ms) goes B first: it was submitted first.
     std::stable_sort(expected.begin(), expected.end(),
                      [](const auto& x, const auto& y) { return x.first < y.first; });
-    ASSERT_LT(Pacer::monotonic_ns(), t0) << "queued after the first deadline: order not tested";
+    ASSERT_LT(mirage::hostclock::monotonic_ns(), t0)
+        << "queued after the first deadline: order not tested";
     ss.flush(ca);
     ss.flush(cb);
     ReceivedDatagram d;
@@ -210,13 +212,13 @@ TEST(SharedSender, submit_beyond_the_horizon_blocks_until_within_it) {
     SharedSender ss(cfg);
     const auto ch = ss.open(tx);
     // Within the horizon: no wait.
-    const std::int64_t s0 = Pacer::monotonic_ns();
+    const std::int64_t s0 = mirage::hostclock::monotonic_ns();
     ASSERT_TRUE(ss.submit(ch, Stream::Data, s0 + 5'000'000, packet(1, 0)));
     EXPECT_EQ(ss.horizon_waits(), 0u);
     // 120 ms ahead with a 20 ms horizon: submit cannot return before deadline − horizon.
-    const std::int64_t deadline = Pacer::monotonic_ns() + 120'000'000;
+    const std::int64_t deadline = mirage::hostclock::monotonic_ns() + 120'000'000;
     ASSERT_TRUE(ss.submit(ch, Stream::Data, deadline, packet(1, 1)));
-    const std::int64_t back = Pacer::monotonic_ns();
+    const std::int64_t back = mirage::hostclock::monotonic_ns();
     EXPECT_EQ(ss.horizon_waits(), 1u);
     EXPECT_GE(back, deadline - 20'000'000);
     EXPECT_LT(back - (deadline - 20'000'000), 2'000'000'000);  // no runaway wait
@@ -233,13 +235,13 @@ TEST(SharedSender, full_queue_blocks_submit_until_a_packet_is_sent) {
     cfg.horizon = Nanos{5'000'000'000};
     SharedSender ss(cfg);
     const auto ch = ss.open(tx);
-    const std::int64_t t0 = Pacer::monotonic_ns() + 50'000'000;
+    const std::int64_t t0 = mirage::hostclock::monotonic_ns() + 50'000'000;
     for (std::uint32_t k = 0; k < 4; ++k)
         ASSERT_TRUE(ss.submit(ch, Stream::Data, t0 + k * 1'000'000, packet(1, k)));
     EXPECT_EQ(ss.full_waits(), 0u);
     // The fifth needs a slot: the first frees only once sent, at or after its deadline t0.
     ASSERT_TRUE(ss.submit(ch, Stream::Data, t0 + 4'000'000, packet(1, 4)));
-    EXPECT_GE(Pacer::monotonic_ns(), t0);
+    EXPECT_GE(mirage::hostclock::monotonic_ns(), t0);
     EXPECT_EQ(ss.full_waits(), 1u);
     ss.flush(ch);
     EXPECT_EQ(ss.counters(ch).sent, 5u);
@@ -255,7 +257,7 @@ TEST(SharedSender, packet_past_its_deadline_goes_out_at_once_and_counts_late) {
     UdpSender tx(to(rx.port()));
     SharedSender ss;  // late threshold 100 µs
     const auto ch = ss.open(tx);
-    const std::int64_t deadline = Pacer::monotonic_ns() - 10'000'000;  // 10 ms ago
+    const std::int64_t deadline = mirage::hostclock::monotonic_ns() - 10'000'000;  // 10 ms ago
     ASSERT_TRUE(ss.submit(ch, Stream::Data, deadline, packet(1, 7)));
     ss.flush(ch);
     const auto h = ss.lateness(ch);
@@ -273,9 +275,9 @@ TEST(SharedSender, unknown_or_closed_channel_is_refused_without_throwing) {
     UdpSender tx(to(rx.port()));
     SharedSender ss;
     const auto ch = ss.open(tx);
-    EXPECT_FALSE(ss.submit(ch + 1, Stream::Data, Pacer::monotonic_ns(), packet(1, 0)));
+    EXPECT_FALSE(ss.submit(ch + 1, Stream::Data, mirage::hostclock::monotonic_ns(), packet(1, 0)));
     ss.close(ch);
-    EXPECT_FALSE(ss.submit(ch, Stream::Data, Pacer::monotonic_ns(), packet(1, 0)));
+    EXPECT_FALSE(ss.submit(ch, Stream::Data, mirage::hostclock::monotonic_ns(), packet(1, 0)));
     EXPECT_EQ(ss.counters(ch).submitted, 0u);
     SharedSenderConfig zero;
     zero.capacity = 0;
@@ -298,9 +300,10 @@ TEST(SharedSender, earlier_packet_wakes_the_sleeping_sender) {
         ReceivedDatagram d;
         std::uint32_t received = 0;
         for (std::uint32_t k = 0; k < kSamples; ++k) {
+            ASSERT_TRUE(ss.submit(far, Stream::Data, mirage::hostclock::monotonic_ns() + 15'000'000,
+                                  packet(1, k)));
             ASSERT_TRUE(
-                ss.submit(far, Stream::Data, Pacer::monotonic_ns() + 15'000'000, packet(1, k)));
-            ASSERT_TRUE(ss.submit(now, Stream::Data, Pacer::monotonic_ns(), packet(2, k)));
+                ss.submit(now, Stream::Data, mirage::hostclock::monotonic_ns(), packet(2, k)));
             if (rx_now.receive(d, kTimeout)) ++received;
             rx_far.drain();
         }

@@ -58,9 +58,6 @@ std::unique_ptr<ByteStream> open_byte_stream(const std::string& uri);
 inline constexpr std::chrono::milliseconds kReopenBackoffFirst{100};
 inline constexpr std::chrono::milliseconds kReopenBackoffMax{5000};
 
-// CLOCK_MONOTONIC now, in ns (the clock of `host_ns`).
-std::int64_t monotonic_ns();
-
 // A pseudo-terminal pair for tests and the fake INS: the master end as a ByteStream, and the
 // path of the slave end ("/dev/pts/N") that a reader opens like a serial port. Both ends are
 // raw. The master keeps a slave descriptor of its own open, so it never sees a hang-up while

@@ -36,8 +36,6 @@ class Pacer {
     const LatenessHistogram& stats() const { return stats_; }
     const PacerConfig& config() const { return config_; }
 
-    static std::int64_t monotonic_ns();
-
   private:
     PacerConfig config_;
     bool anchored_ = false;

@@ -47,10 +47,4 @@ class UdpReceiver {
     std::vector<std::uint8_t> buffer_ = std::vector<std::uint8_t>(65536);
 };
 
-// Wall clock (CLOCK_REALTIME, the clock of kernel timestamps) in ns.
-std::int64_t realtime_ns();
-// CLOCK_REALTIME − CLOCK_MONOTONIC from the tightest of a few bracketing reads: maps kernel
-// receive timestamps onto monotonic schedules.
-std::int64_t realtime_minus_monotonic();
-
 }  // namespace mirage::udp
