@@ -5,7 +5,12 @@
 # against candump/cansend, optionally an slcan bridge on ttyS1 to a host unix socket.
 #
 #   run-vm-can.sh --test-binary <gtest exe> --work-dir <dir under the build dir> [--timeout s]
-#                 [--no-slcan]
+#                 [--no-slcan] [--accel tcg|kvm|auto]
+#
+# Acceleration: tcg (default) is qemu's software CPU: it boots and runs the tests in seconds and
+# works on every host. kvm is faster where nested virtualisation works, but on some hosts a
+# writable /dev/kvm still leaves the guest stuck at "Booting from ROM"; auto probes KVM with a
+# short boot (10 s at most) and falls back to TCG. MIRAGE_VM_ACCEL sets the default.
 #
 # Exit 0 = all tests passed, 1 = failure, 77 = skipped (qemu, busybox-static, can-utils or the
 # kernel package unavailable). The kernel package is downloaded once into <work-dir>/cache, so
@@ -17,15 +22,18 @@ binary=""
 work=""
 timeout_s=120
 slcan=1
+accel=${MIRAGE_VM_ACCEL:-tcg}
 while [ $# -gt 0 ]; do
     case "$1" in
         --test-binary) binary="$2"; shift 2 ;;
         --work-dir) work="$2"; shift 2 ;;
         --timeout) timeout_s="$2"; shift 2 ;;
         --no-slcan) slcan=0; shift ;;
+        --accel) accel="$2"; shift 2 ;;
         *) echo "vm-can: unknown argument '$1'" >&2; exit 2 ;;
     esac
 done
+case "$accel" in tcg|kvm|auto) ;; *) echo "vm-can: --accel must be tcg, kvm or auto" >&2; exit 2 ;; esac
 [ -n "$binary" ] && [ -n "$work" ] || { echo "vm-can: --test-binary and --work-dir are required" >&2; exit 2; }
 [ -x "$binary" ] || { echo "vm-can: test binary '$binary' not found" >&2; exit 1; }
 
@@ -157,8 +165,25 @@ chmod +x "$root/init"
 (cd "$root" && find . | busybox cpio -o -H newc 2>/dev/null | gzip -1 > "$work/initrd.gz") || exit 1
 
 # --- (c) boot ----------------------------------------------------------------------------------
-accel=tcg
-[ -w /dev/kvm ] && accel=kvm
+# KVM only when it boots: a probe initramfs that prints a marker and powers off at once.
+kvm_boots() {
+    [ -w /dev/kvm ] || { echo "vm-can: /dev/kvm not writable"; return 1; }
+    probe="$work/probe"
+    rm -rf "$probe" && mkdir -p "$probe/bin" || return 1
+    cp "$busybox_bin" "$probe/bin/busybox" && ln -s busybox "$probe/bin/sh" &&
+        ln -s busybox "$probe/bin/poweroff" || return 1
+    printf '#!/bin/sh\necho MIRAGE-VM-PROBE-OK\npoweroff -f\n' > "$probe/init"
+    chmod +x "$probe/init"
+    (cd "$probe" && find . | busybox cpio -o -H newc 2>/dev/null | gzip -1 > "$work/probe.gz")
+    timeout 10 qemu-system-x86_64 -accel kvm -m 128 -nographic -no-reboot -kernel "$vmlinuz" \
+        -initrd "$work/probe.gz" -append 'console=ttyS0 quiet panic=-1' </dev/null \
+        > "$work/probe.log" 2>&1
+    grep -q MIRAGE-VM-PROBE-OK "$work/probe.log"
+}
+if [ "$accel" = auto ]; then
+    if kvm_boots; then accel=kvm; else
+        echo "vm-can: KVM did not boot a probe kernel within 10 s; using TCG"; accel=tcg; fi
+fi
 console="$work/console.log"
 sock="$work/ttyS1.sock"
 rm -f "$sock" "$console" "$work/slcan-host.log"

@@ -17,10 +17,19 @@ inline std::filesystem::path capture_or_skip(const std::string& name) {
     return dir / name;
 }
 
+// CI sets MIRAGE_REQUIRE_CAPTURES=1 where the third-party folders exist (.ci/run): a missing file
+// then fails the test instead of skipping it, so a wrong path cannot pass as a skip.
+inline bool captures_required() {
+    const char* v = std::getenv("MIRAGE_REQUIRE_CAPTURES");
+    return v && std::string(v) == "1";
+}
+
 // In a test body: `MIRAGE_CAPTURE_OR_SKIP(path, "vlp16_example.pcap");` declares `path` or skips the
 // test with a message naming the missing file (GTEST_SKIP must run in the test body itself).
 #define MIRAGE_CAPTURE_OR_SKIP(var, name)                                                       \
     const std::filesystem::path var = ::mirage::test::capture_or_skip(name);                    \
+    if (!std::filesystem::exists(var) && ::mirage::test::captures_required())                   \
+        FAIL() << "capture " << var << " not found and MIRAGE_REQUIRE_CAPTURES=1";              \
     if (!std::filesystem::exists(var))                                                          \
     GTEST_SKIP() << "capture " << var << " not found (set MIRAGE_CAPTURES_DIR or the CMake "    \
                  << "option MIRAGE_CAPTURES_DIR to the folder of ../shared/captures)"
@@ -34,9 +43,12 @@ inline std::filesystem::path navio_file(const std::string& name) {
     return dir.parent_path() / "nav-io" / name;
 }
 
-// `MIRAGE_NAVIO_OR_SKIP(path, "rst39.log");` declares `path` or skips with a visible message.
+// `MIRAGE_NAVIO_OR_SKIP(path, "rst39.log");` declares `path` or skips with a visible message
+// (fails under MIRAGE_REQUIRE_CAPTURES=1).
 #define MIRAGE_NAVIO_OR_SKIP(var, name)                                                         \
     const std::filesystem::path var = ::mirage::test::navio_file(name);                         \
+    if (!std::filesystem::exists(var) && ::mirage::test::captures_required())                   \
+        FAIL() << "nav-io file " << var << " not found and MIRAGE_REQUIRE_CAPTURES=1";          \
     if (!std::filesystem::exists(var))                                                          \
     GTEST_SKIP() << "nav-io file " << var << " not found (set MIRAGE_NAVIO_DIR to the folder "  \
                  << "of ../shared/nav-io)"
