@@ -11,7 +11,7 @@ void register_las_info(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "las-info", "Print a LAS file's header and validate it (exit 1 on problems)");
     auto path = std::make_shared<std::string>();
-    cmd->add_option("file", *path, "LAS file")->required();
+    cmd->add_option("file", *path, "LAS file")->required()->check(CLI::ExistingFile);
     cmd->callback([path] {
         const auto f = las::LasFile::read(*path);
         const auto& h = f.header();

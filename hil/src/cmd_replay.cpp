@@ -28,7 +28,9 @@ void register_replay(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "replay",
         "Send the UDP payloads of a pcap/pcapng capture to a host with the capture's timing");
-    cmd->add_option("capture", o->cfg.path, "Capture file (classic pcap or pcapng)")->required();
+    cmd->add_option("capture", o->cfg.path, "Capture file (classic pcap or pcapng)")
+        ->required()
+        ->check(CLI::ExistingFile);
     cmd->add_option("--to", o->cfg.host, "Destination IPv4 host (every datagram goes there)")
         ->required();
     cmd->add_option("--port-map", o->port_map,

@@ -8,6 +8,16 @@
 #include "commands.hpp"
 #include "mirage/core/error.hpp"
 
+namespace {
+
+bool known_command(CLI::App& app, const char* name) {
+    for (const CLI::App* sub : app.get_subcommands({}))
+        if (sub->check_name(name)) return true;
+    return false;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     CLI::App app{
         "Mirage: real-time lidar emulator (Embree ray casting, seed-001 physics, LAS output)"};
@@ -23,10 +33,20 @@ int main(int argc, char** argv) {
     mirage::hil::register_fake_ins(app);
     mirage::hil::register_replay(app);
     mirage::hil::register_record(app);
+    if (argc > 1 && argv[1][0] != '-' && !known_command(app, argv[1])) {
+        std::fprintf(stderr, "mirage: unknown command '%s' (mirage --help lists them)\n", argv[1]);
+        return 2;
+    }
     try {
         app.parse(argc, argv);
+    } catch (const CLI::RuntimeError& e) {
+        return e.get_exit_code();  // a command's own verdict (1: runtime failure)
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // --help and --version print and exit 0; every other parse error is an argument error:
+        // CLI11's message names the option, and the exit code is 2 like any configuration error
+        // (docs/commands.md), not CLI11's own 100-range codes.
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
     } catch (const mirage::ConfigError& e) {
         std::fprintf(stderr, "mirage: configuration error: %s\n", e.what());
         return 2;
