@@ -54,7 +54,6 @@ Materials add_materials(Scene& s) {
     m.roofs[1] = s.add_material(metal_roof);
     m.bark = s.add_material(material("tree_bark", 0.25, 5, 90, 70, 50));
     Material crown = material("tree_crown", 0.4, 5, 60, 120, 50);
-    crown.transmission = 0.3;  // gaps between leaves: later returns from trunk and ground
     m.crown = s.add_material(crown);
     // Vehicles and street furniture: LAS 1.4 class 64 (first user-definable code).
     Material paint = material("car_paint", 0.25, 64, 180, 30, 30);
@@ -64,7 +63,6 @@ Materials add_materials(Scene& s) {
     Material glass = material("car_glass", 0.05, 64, 40, 50, 60);
     glass.specular = 0.5;
     glass.specular_exponent = 200;
-    glass.transmission = 0.6;
     m.glass = s.add_material(glass);
     m.tyre = s.add_material(material("car_tyre", 0.05, 64, 20, 20, 20));
     Material face = material("sign_face", 0.6, 64, 250, 250, 250);

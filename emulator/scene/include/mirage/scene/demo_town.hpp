@@ -30,7 +30,7 @@ struct DemoTownOptions {
 //    below 1024 m), 8 m wide, 3 cm above the terrain, class 11;
 //  - buildings: mesh "buildings" (walls class 6, pitched roofs class 6), boxes of 10-20 m
 //    footprint whose ground floor starts 0.5 m below the lowest terrain point of the footprint;
-//  - trees: mesh "tree" (trunk + crown, class 5, crown transmission 0.3) placed by `trees`
+//  - trees: mesh "tree" (trunk + crown, class 5) placed by `trees`
 //    instances; cars: mesh "car" placed by `cars` instances beside the road, tilted onto the
 //    terrain; signs: mesh "sign" (retroreflective plate on a post) placed by `signs`
 //    instances facing oncoming traffic.

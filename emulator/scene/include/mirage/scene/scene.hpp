@@ -17,7 +17,6 @@ struct Material {
     double specular_exponent = 20.0;  // Phong exponent of that lobe
     bool retroreflective = false;     // corner-cube sheeting: strong return near the source
     double retro_gain = 100.0;  // retroreflective BRDF at the source, sr⁻¹ (Lambertian 0.5 → 0.16)
-    double transmission = 0.0;        // fraction passing through (multi-return), [0, 1]
     std::uint8_t classification = 1;  // LAS class code
     std::uint16_t red = 32768, green = 32768, blue = 32768;
 };
