@@ -25,12 +25,24 @@ struct ThroughputRow {
     }
 };
 
+// Error of a render against a denser reference (same BVH: its quality never changes a hit).
 struct ErrorRow {
     int sub_rays = 1;
-    std::string quality;
+    int reference_sub_rays = 37;
     double seconds = 0, reference_seconds = 0;
     double range_rms_m = 0, range_p50_m = 0, range_p95_m = 0, intensity_rms = 0,
            presence_mismatch = 0;
+    // Pulses whose return lies over c·τ/2 from the reference's (the strongest surface flipped),
+    // as a fraction of those with a return in both, and the range RMS over the others.
+    double other_surface = 0, same_surface_range_rms_m = 0;
+};
+
+// A BVH quality: build time and memory, and the render time of one job with it.
+struct BvhRow {
+    std::string quality;
+    int sub_rays = 19;
+    double build_seconds = 0, render_seconds = 0;
+    std::uint64_t bvh_bytes = 0, rays = 0;
 };
 
 struct BenchReport {
@@ -41,6 +53,7 @@ struct BenchReport {
     double las_points_per_s = 0, las_mb_per_s = 0;
     std::uint64_t las_points = 0;
     std::vector<ErrorRow> errors;
+    std::vector<BvhRow> bvh;
 };
 
 // CPU model, cores, threads used, Embree version.
