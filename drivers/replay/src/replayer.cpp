@@ -51,7 +51,10 @@ class Scheduler {
     bool send_next() {
         std::size_t n = 0;
         std::int64_t send_time = 0;
-        if (anchor_ < 0) anchor_ = hostclock::monotonic_ns() + c_.lead_ns - queue_.front().time_ns;
+        if (anchor_ < 0) {
+            anchor_ = hostclock::monotonic_ns() + c_.lead_ns - queue_.front().time_ns;
+            s_.anchor_ns = anchor_ + queue_.front().time_ns;
+        }
         if (top_) {
             n = std::min(queue_.size(), kTopBatch);
             send_time = hostclock::monotonic_ns();
@@ -77,6 +80,7 @@ class Scheduler {
             }
         }
         const std::size_t ok = sender_.send(batch_);
+        const std::int64_t sent = hostclock::monotonic_ns();
         std::size_t bytes = 0;
         for (const auto& o : batch_) bytes += o.payload.size();
         s_.packets += ok;
@@ -88,7 +92,7 @@ class Scheduler {
         s_.syscalls = sender_.syscalls();
         s_.gso_messages = sender_.gso_messages();
         if (first_send_ < 0) first_send_ = send_time;
-        s_.elapsed_ns = send_time - first_send_;
+        s_.elapsed_ns = sent - first_send_;
         if (top_) s_.schedule_ns = s_.elapsed_ns;
         queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(n));
         if (progress_ && send_time - last_progress_ >= 1'000'000'000) {
@@ -184,8 +188,10 @@ ReplaySummary replay(const ReplayConfig& c, const std::atomic<bool>* stop,
 std::string format_summary(const ReplaySummary& s) {
     std::string out;
     const double secs = static_cast<double>(s.elapsed_ns) * 1e-9;
-    out += fmt::format("replay: {} packets, {} payload bytes sent in {:.6f} s", s.packets, s.bytes,
-                       secs);
+    out += fmt::format(
+        "replay: {} packets, {} payload bytes sent in {:.6f} s (first send call to "
+        "the end of the last)",
+        s.packets, s.bytes, secs);
     if (!s.top_speed)
         out += fmt::format(" (schedule {:.6f} s)", static_cast<double>(s.schedule_ns) * 1e-9);
     out += fmt::format(", {} pass{}{}\n", s.passes, s.passes == 1 ? "" : "es",

@@ -41,7 +41,12 @@ struct ReplaySummary {
     ImpairmentCounters impair;
     udp::LatenessHistogram lateness{udp::LatenessHistogram(core::Nanos{20'000})};
     std::int64_t schedule_ns = 0;  // last deadline − first (host time)
-    std::int64_t elapsed_ns = 0;   // first send − last send, host time
+    // From the start of the first send call to the return of the last (host time): a capture
+    // sent in one call still takes the time of that call.
+    std::int64_t elapsed_ns = 0;
+    // CLOCK_MONOTONIC instant the capture's first datagram was due on the first pass: datagram
+    // i of a 1x replay is due at anchor_ns + (t_i − t_first), so receivers can check the timing.
+    std::int64_t anchor_ns = -1;
     std::uint32_t passes = 0;
     bool stopped = false;  // the stop flag ended it
     bool top_speed = false;
