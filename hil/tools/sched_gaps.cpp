@@ -11,11 +11,13 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <thread>
@@ -147,17 +149,25 @@ int main(int argc, char** argv) {
             threads, all_pct[0], all_pct[1], all_pct[2], all_pct[3], 100.0 * independent);
     }
     if (!json.empty()) {
+        // NaN or Inf (no gaps, no period) becomes null: never a number JSON cannot hold.
+        const auto finite = [](double v) {
+            return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+        };
+        const nlohmann::ordered_json j = {
+            {"seconds", finite(double(span) * 1e-9)},
+            {"threads", threads},
+            {"gaps_per_s_over_20us", finite(rate(1))},
+            {"gaps_per_s_over_50us", finite(rate(2))},
+            {"worst_us", finite(static_cast<double>(worst) * 1e-3)},
+            {"delayed_pct_over_10us", finite(first[0])},
+            {"delayed_pct_over_20us", finite(first[1])},
+            {"delayed_pct_over_50us", finite(first[2])},
+            {"all_threads_delayed_pct_over_20us", finite(all_pct[1])},
+            {"all_threads_delayed_pct_over_50us", finite(all_pct[2])},
+            {"gap_period_ms_over_20us", finite(period.period_ns * 1e-6)},
+            {"gap_phase_share_pct_over_20us", finite(100.0 * period.phase_share)}};
         std::ofstream f(json);
-        f << "{\"seconds\": " << span * 1e-9 << ", \"threads\": " << threads
-          << ", \"gaps_per_s_over_20us\": " << rate(1) << ", \"gaps_per_s_over_50us\": " << rate(2)
-          << ", \"worst_us\": " << static_cast<double>(worst) * 1e-3
-          << ", \"delayed_pct_over_10us\": " << first[0]
-          << ", \"delayed_pct_over_20us\": " << first[1]
-          << ", \"delayed_pct_over_50us\": " << first[2]
-          << ", \"all_threads_delayed_pct_over_20us\": " << all_pct[1]
-          << ", \"all_threads_delayed_pct_over_50us\": " << all_pct[2]
-          << ", \"gap_period_ms_over_20us\": " << period.period_ns * 1e-6
-          << ", \"gap_phase_share_pct_over_20us\": " << 100.0 * period.phase_share << "}\n";
+        f << j.dump() << "\n";
         if (!f) {
             std::fprintf(stderr, "mirage-sched-gaps: cannot write %s\n", json.c_str());
             return 1;

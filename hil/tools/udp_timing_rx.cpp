@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -289,18 +290,28 @@ Analysis analyse(const std::vector<Scheduled>& sched, const std::vector<Received
     return a;
 }
 
+// NaN or Inf (an empty run) becomes null: never a number JSON cannot hold.
+nlohmann::json finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
 std::string to_json(const std::string& label, const Analysis& a) {
-    char buf[1024];
-    std::snprintf(buf, sizeof buf,
-                  "{\"label\": \"%s\", \"scheduled\": %zu, \"received\": %zu, \"matched\": %zu, "
-                  "\"lost\": %zu, \"unmatched\": %zu, \"err_p50_us\": %.3f, \"err_p99_us\": %.3f, "
-                  "\"err_max_us\": %.3f, \"err_min_us\": %.3f, \"abs_err_p99_us\": %.3f, "
-                  "\"jitter_p99_us\": %.3f, \"drift_min_us\": %.3f, \"drift_median_us\": %.3f, "
-                  "\"rx_span_s\": %.6f, \"schedule_span_s\": %.6f, \"rx_pps\": %.0f}",
-                  label.c_str(), a.scheduled, a.received, a.matched, a.lost, a.unmatched, a.p50_us,
-                  a.p99_us, a.max_us, a.min_us, a.abs_p99_us, a.jitter_p99_us, a.drift_min_us,
-                  a.drift_median_us, a.rx_span_s, a.schedule_span_s, a.rx_pps);
-    return buf;
+    const nlohmann::ordered_json j = {{"label", label},
+                                      {"scheduled", a.scheduled},
+                                      {"received", a.received},
+                                      {"matched", a.matched},
+                                      {"lost", a.lost},
+                                      {"unmatched", a.unmatched},
+                                      {"err_p50_us", finite(a.p50_us)},
+                                      {"err_p99_us", finite(a.p99_us)},
+                                      {"err_max_us", finite(a.max_us)},
+                                      {"err_min_us", finite(a.min_us)},
+                                      {"abs_err_p99_us", finite(a.abs_p99_us)},
+                                      {"jitter_p99_us", finite(a.jitter_p99_us)},
+                                      {"drift_min_us", finite(a.drift_min_us)},
+                                      {"drift_median_us", finite(a.drift_median_us)},
+                                      {"rx_span_s", finite(a.rx_span_s)},
+                                      {"schedule_span_s", finite(a.schedule_span_s)},
+                                      {"rx_pps", finite(a.rx_pps)}};
+    return j.dump();
 }
 
 }  // namespace
