@@ -9,7 +9,8 @@ namespace mirage::core {
 
 // Counter-based generator (Philox4x32-10, Salmon et al. 2011): the output is a pure function of
 // (seed, pulse, stream), so a pulse draws the same numbers whichever thread renders it.
-// Hand-written: no Debian package provides a counter-based generator for C++.
+// Written here although Debian packages Random123 (the reference it is tested against word for
+// word): the batched form below vectorises across counters (docs/dependencies.md).
 std::array<std::uint32_t, 4> philox4x32(std::array<std::uint32_t, 4> counter,
                                         std::array<std::uint32_t, 2> key);  // defined below
 
