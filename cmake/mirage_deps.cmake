@@ -18,11 +18,13 @@ find_package(PNG REQUIRED)                  # libpng-dev: preview images
 find_package(PCL 1.13 QUIET COMPONENTS common io)  # libpcl-dev: an independent Velodyne client
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET libpcap)  # libpcap-dev: pcap capture files
-pkg_check_modules(LZMA REQUIRED IMPORTED_TARGET liblzma)  # liblzma-dev: CRC-64/XZ (Ouster)
+pkg_check_modules(LZMA REQUIRED IMPORTED_TARGET liblzma)  # liblzma-dev: CRC-64/XZ (Ouster), CRC-32 (NovAtel)
 pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)  # libusb-1.0-0-dev: gs_usb CAN adapters
-find_package(nlohmann_json 3.11 REQUIRED)  # nlohmann-json3-dev: Ouster metadata JSON
+find_package(nlohmann_json 3.11 REQUIRED)  # nlohmann-json3-dev: Ouster metadata, reports
 find_package(Boost 1.74 REQUIRED)           # libboost-dev: Boost.Asio (header-only) UDP sockets
 if(MIRAGE_BUILD_TESTS)
   find_package(GTest REQUIRED)              # googletest
   find_package(benchmark REQUIRED)          # libbenchmark-dev
+  # librandom123-dev: the reference Philox the tests hold Mirage's generator against.
+  find_path(RANDOM123_INCLUDE_DIR Random123/philox.h REQUIRED)
 endif()
