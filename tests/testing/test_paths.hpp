@@ -24,14 +24,14 @@ inline bool captures_required() {
     return v && std::string(v) == "1";
 }
 
-// In a test body: `MIRAGE_CAPTURE_OR_SKIP(path, "vlp16_example.pcap");` declares `path` or skips the
-// test with a message naming the missing file (GTEST_SKIP must run in the test body itself).
-#define MIRAGE_CAPTURE_OR_SKIP(var, name)                                                       \
-    const std::filesystem::path var = ::mirage::test::capture_or_skip(name);                    \
-    if (!std::filesystem::exists(var) && ::mirage::test::captures_required())                   \
-        FAIL() << "capture " << var << " not found and MIRAGE_REQUIRE_CAPTURES=1";              \
-    if (!std::filesystem::exists(var))                                                          \
-    GTEST_SKIP() << "capture " << var << " not found (set MIRAGE_CAPTURES_DIR or the CMake "    \
+// In a test body: `MIRAGE_CAPTURE_OR_SKIP(path, "vlp16_example.pcap");` declares `path` or skips
+// the test with a message naming the missing file (GTEST_SKIP must run in the test body itself).
+#define MIRAGE_CAPTURE_OR_SKIP(var, name)                                                    \
+    const std::filesystem::path var = ::mirage::test::capture_or_skip(name);                 \
+    if (!std::filesystem::exists(var) && ::mirage::test::captures_required())                \
+        FAIL() << "capture " << var << " not found and MIRAGE_REQUIRE_CAPTURES=1";           \
+    if (!std::filesystem::exists(var))                                                       \
+    GTEST_SKIP() << "capture " << var << " not found (set MIRAGE_CAPTURES_DIR or the CMake " \
                  << "option MIRAGE_CAPTURES_DIR to the folder of ../shared/captures)"
 
 // Navigation sample data (../shared/nav-io: rst39.log, DBCs) sits beside the captures folder;
@@ -45,12 +45,12 @@ inline std::filesystem::path navio_file(const std::string& name) {
 
 // `MIRAGE_NAVIO_OR_SKIP(path, "rst39.log");` declares `path` or skips with a visible message
 // (fails under MIRAGE_REQUIRE_CAPTURES=1).
-#define MIRAGE_NAVIO_OR_SKIP(var, name)                                                         \
-    const std::filesystem::path var = ::mirage::test::navio_file(name);                         \
-    if (!std::filesystem::exists(var) && ::mirage::test::captures_required())                   \
-        FAIL() << "nav-io file " << var << " not found and MIRAGE_REQUIRE_CAPTURES=1";          \
-    if (!std::filesystem::exists(var))                                                          \
-    GTEST_SKIP() << "nav-io file " << var << " not found (set MIRAGE_NAVIO_DIR to the folder "  \
+#define MIRAGE_NAVIO_OR_SKIP(var, name)                                                        \
+    const std::filesystem::path var = ::mirage::test::navio_file(name);                        \
+    if (!std::filesystem::exists(var) && ::mirage::test::captures_required())                  \
+        FAIL() << "nav-io file " << var << " not found and MIRAGE_REQUIRE_CAPTURES=1";         \
+    if (!std::filesystem::exists(var))                                                         \
+    GTEST_SKIP() << "nav-io file " << var << " not found (set MIRAGE_NAVIO_DIR to the folder " \
                  << "of ../shared/nav-io)"
 
 inline std::filesystem::path source_dir() { return MIRAGE_SOURCE_DIR; }

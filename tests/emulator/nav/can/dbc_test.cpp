@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Every signal our encoders write, decoded through the DBCs (SBG's own, and our OxTS
 // transcription), gives back the physical value we meant.
-#include "mirage/navcan/dbc.hpp"
+#include "dbc.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-#include "mirage/ouster/capture_stats.hpp"
+#include "ouster_capture_stats.hpp"
 #include "mirage/ouster/metadata.hpp"
 #include "mirage/ouster/packetizer.hpp"
 #include "mirage/pcap/pcap.hpp"

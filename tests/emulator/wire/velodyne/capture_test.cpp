@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "mirage/pcap/pcap.hpp"
-#include "mirage/velodyne/capture_stats.hpp"
-#include "mirage/velodyne/frame_assembler.hpp"
+#include "velodyne_capture_stats.hpp"
+#include "velodyne_frames.hpp"
 #include "mirage/velodyne/packetizer.hpp"
 #include "test_paths.hpp"
 #include "velodyne_test_util.hpp"

@@ -2,7 +2,7 @@
 // Frame assembly over a stream with packets dropped mid-revolution.
 #include <gtest/gtest.h>
 
-#include "mirage/velodyne/frame_assembler.hpp"
+#include "velodyne_frames.hpp"
 #include "mirage/velodyne/packetizer.hpp"
 #include "velodyne_test_util.hpp"
 

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "mirage/velodyne/capture_stats.hpp"
+#include "velodyne_capture_stats.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "byte_io.hpp"
 #include "mirage/velodyne/sensor_clock.hpp"
 
 namespace mirage::velodyne {
@@ -68,7 +67,8 @@ void CaptureStatsBuilder::add(wire::Stream stream, std::int64_t time_ns,
         s_.factory1[bytes[kFactoryOffset]]++;
         s_.factory2[bytes[kFactoryOffset + 1]]++;
         for (std::size_t b = 0; b < kBlocksPerPacket; ++b)
-            s_.block_flags[detail::get_u16(bytes.data() + kBlockSize * b)]++;
+            s_.block_flags[static_cast<std::uint16_t>(bytes[kBlockSize * b] |
+                                                      (bytes[kBlockSize * b + 1] << 8))]++;
     }
     const DecodeStatus st = decode_data(bytes, nullptr, scratch_);
     s_.decode.add(st);

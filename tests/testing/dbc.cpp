@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "mirage/navcan/dbc.hpp"
+#include "dbc.hpp"
 
 #include <charconv>
 #include <fstream>
 #include <sstream>
 
-#include "bits.hpp"
 #include "mirage/core/error.hpp"
 
 namespace mirage::navcan {
@@ -85,11 +84,19 @@ bool parse_message(std::string_view s, DbcMessage& msg) {
 }  // namespace
 
 std::optional<double> DbcSignal::decode(const nav::CanFrame& frame) const {
-    if (!little_endian || start_bit + length > 8u * frame.len) return std::nullopt;
-    const double raw = is_signed
-                           ? static_cast<double>(detail::get_s(frame.data, start_bit, length))
-                           : static_cast<double>(detail::get_u(frame.data, start_bit, length));
-    return raw * factor + offset;
+    if (!little_endian || length == 0 || start_bit + length > 8u * frame.len) return std::nullopt;
+    // Bit by bit, on purpose unlike the codecs' word-wise extraction, so the check is independent.
+    std::uint64_t raw = 0;
+    for (unsigned i = 0; i < length; ++i) {
+        const unsigned bit = start_bit + i;
+        raw |= static_cast<std::uint64_t>((frame.data[bit / 8] >> (bit % 8)) & 1u) << i;
+    }
+    if (is_signed && length < 64 && ((raw >> (length - 1)) & 1u) != 0)
+        return static_cast<double>(
+                   static_cast<std::int64_t>(raw | ~((std::uint64_t{1} << length) - 1))) *
+                   factor +
+               offset;
+    return static_cast<double>(raw) * factor + offset;
 }
 
 const DbcSignal* DbcMessage::signal(std::string_view n) const {

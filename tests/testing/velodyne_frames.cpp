@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "mirage/velodyne/frame_assembler.hpp"
+#include "velodyne_frames.hpp"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "mirage/ouster/capture_stats.hpp"
+#include "ouster_capture_stats.hpp"
 
 #include <algorithm>
 #include <map>
