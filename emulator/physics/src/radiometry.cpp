@@ -34,6 +34,7 @@ Radiometry::Radiometry(const sensor::BeamParams& beam, const sensor::ReceiverPar
     require_positive("beam.pulse_energy_j", beam.pulse_energy_j);
     require_positive("beam.pulse_width_s", beam.pulse_width_s);
     require_positive("beam.divergence_rad", beam.divergence_rad);
+    require_non_negative("beam.laser_bandwidth_m", beam.laser_bandwidth_m);
     if (!(beam.divergence_rad < std::numbers::pi)) {
         std::ostringstream msg;
         msg << "physics: beam.divergence_rad must be < pi (got " << beam.divergence_rad << ")";
@@ -54,6 +55,11 @@ Radiometry::Radiometry(const sensor::BeamParams& beam, const sensor::ReceiverPar
     require_non_negative("environment.path_radiance_w_m2_sr_um", env.path_radiance_w_m2_sr_um);
 
     constexpr double pi = std::numbers::pi;
+    // Eq. 5 integrates the laser's spectral power over its own band; the receiver's optical
+    // filter passes only the part of a wider line that falls inside it (top-hat line and filter,
+    // centred: docs/physics.md §1.2).
+    const double laser_bw = beam.laser_bandwidth_m, det_bw = rx.detector_bandwidth_m;
+    filter_pass_ = det_bw > 0.0 && laser_bw > det_bw ? det_bw / laser_bw : 1.0;
     peak_power_w_ = beam.pulse_energy_j / beam.pulse_width_s;
     aperture_m2_ = pi * rx.aperture_diameter_m * rx.aperture_diameter_m / 4.0;
     const double focal_m = rx.f_number * rx.aperture_diameter_m;
@@ -94,7 +100,8 @@ double Radiometry::closed_form_lambertian_w(double range_m, double reflectance,
     if (!(range_m > 0.0) || !(cos_incidence > 0.0)) return 0.0;
     const double tau = env_.atmosphere.one_way(range_m);
     const double fill = std::min(1.0, omega_pix_ / omega_spot_);
-    return peak_power_w_ * rx_.eta_transmitter * rx_.eta_receiver * tau * tau * reflectance *
+    return peak_power_w_ * filter_pass_ * rx_.eta_transmitter * rx_.eta_receiver * tau * tau *
+           reflectance *
            std::min(cos_incidence, 1.0) * aperture_m2_ / (std::numbers::pi * range_m * range_m) *
            fill;
 }

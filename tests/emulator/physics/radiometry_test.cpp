@@ -329,3 +329,23 @@ TEST(Radiometry, rejects_invalid_parameters_naming_the_field) {
     ReceiverParams rx = test_receiver(0.0);
     EXPECT_THROW(mp::Radiometry(test_beam(), rx, {}), mirage::ConfigError);
 }
+
+// Eq. 5 over the laser's band: a filter narrower than the laser line passes Δλ_det/Δλ_laser of
+// it; a wider filter passes all of it (the presets' case).
+TEST(Radiometry, a_filter_narrower_than_the_laser_line_passes_its_share_of_it) {
+    const ReceiverParams rx = test_receiver(1e-7);  // 20 nm filter
+    auto with_line = [&](double laser_bw_m) {
+        BeamParams b = test_beam();
+        b.laser_bandwidth_m = laser_bw_m;
+        return mp::Radiometry(b, rx, mp::Environment{}).laser_power_w(1.0, 50.0, 0.1, 1.0);
+    };
+    ASSERT_DOUBLE_EQ(rx.detector_bandwidth_m, 20e-9);
+    const double full = with_line(5e-9);
+    EXPECT_GT(full, 0.0);
+    EXPECT_DOUBLE_EQ(with_line(20e-9), full);
+    EXPECT_DOUBLE_EQ(with_line(40e-9), 0.5 * full);
+    EXPECT_DOUBLE_EQ(with_line(80e-9), 0.25 * full);
+    BeamParams bad = test_beam();
+    bad.laser_bandwidth_m = -1e-9;
+    EXPECT_THROW(mp::Radiometry(bad, rx, mp::Environment{}), mirage::ConfigError);
+}

@@ -192,6 +192,7 @@ class Radiometry {
     double peak_power_w_ = 0, aperture_m2_ = 0, omega_pix_ = 0, omega_spot_ = 0;
     double spot_over_pixel_ = 0, photons_per_joule_ = 0, tau_int_ = 0, noise_floor_e_ = 0;
     double tan2_half_beta_ = 0, collect_sr_ = 0, background_e_per_w_ = 0;
+    double filter_pass_ = 1;  // share of the laser line inside the detector's filter
 };
 
 // Per-pulse functions, defined here so the pipeline's loop inlines them.
@@ -201,7 +202,7 @@ inline double Radiometry::laser_power_w(double weight, double range_m, double br
     // eq. 2: irradiance over the spot, normal to the beam (one-way τ folded into τ² below);
     // eq. 3: radiance leaving the surface towards the receiver; eq. 4 (generalised): back
     // through the atmosphere into A_r over min(Ω_pix, Ω_spot).
-    const double e = weight * peak_power_w_ * rx_.eta_transmitter /
+    const double e = weight * peak_power_w_ * filter_pass_ * rx_.eta_transmitter /
                      (std::numbers::pi * range_m * range_m * tan2_half_beta_);
     const double l = brdf * e * std::min(cos_incidence, 1.0);
     return l * tau_two_way * rx_.eta_receiver * aperture_m2_ * collect_sr_;
