@@ -115,7 +115,8 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
         ->capture_default_str();
     app.add_option("--sub-rays", in.sub_rays,
                    "Footprint sub-rays per pulse: 1, 7, 19, 37 (0 = sensor's)");
-    app.add_option("--max-returns", in.max_returns, "Returns kept per pulse (0 = sensor's)");
+    app.add_option("--max-returns", in.max_returns, "Returns kept per pulse, 1-8 (0 = sensor's)")
+        ->check(CLI::Range(0, sensor::kMaxReturns));
     app.add_flag("--no-noise", in.no_noise, "Disable range noise, jitter and detector noise");
     app.add_option("--quality", in.quality, "BVH build quality: low, medium, high")
         ->capture_default_str();

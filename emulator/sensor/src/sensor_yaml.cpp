@@ -182,7 +182,7 @@ void read_receiver(const Reader& r, const YAML::Node& n, ReceiverParams& x) {
     get("range_resolution_m", 0, 10, false, 1.0, x.range_resolution_m);
     if (n["max_returns"])
         x.max_returns =
-            static_cast<int>(r.integer(n["max_returns"], "receiver.max_returns", 1, 15));
+            static_cast<int>(r.integer(n["max_returns"], "receiver.max_returns", 1, kMaxReturns));
     if (x.min_range_m >= x.max_range_m)
         r.fail(n["max_range_m"] ? "receiver.max_range_m" : "receiver.min_range_m",
                "min_range_m " + num(x.min_range_m) + " must be below max_range_m " +

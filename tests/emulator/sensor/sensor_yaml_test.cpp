@@ -156,7 +156,9 @@ TEST(SensorYaml, errors_name_the_key_path) {
     EXPECT_EQ(error_of("base: vlp16\nreceiver: {eta_receiver: 1.5}\n"),
               "receiver.eta_receiver: 1.5 is outside (0, 1]");
     EXPECT_EQ(error_of("base: vlp16\nreceiver: {max_returns: 0}\n"),
-              "receiver.max_returns: 0 is outside [1, 15]");
+              "receiver.max_returns: 0 is outside [1, 8]");
+    EXPECT_EQ(error_of("base: vlp16\nreceiver: {max_returns: 9}\n"),
+              "receiver.max_returns: 9 is outside [1, 8]");
     EXPECT_EQ(error_of("base: vlp16\nreceiver: {min_range_m: 200}\n"),
               "receiver.min_range_m: min_range_m 200 must be below max_range_m 100");
     EXPECT_EQ(error_of("base: vlp16\nnoise: {range_sigma_m: -1}\n"),

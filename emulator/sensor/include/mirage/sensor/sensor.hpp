@@ -23,6 +23,9 @@ struct BeamParams {
     int sub_rays = 1;  // footprint samples per pulse: 1, 7, 19, 37, ... (hex rings)
 };
 
+// The most returns a pulse reports (the renderer separates at most this many surfaces).
+inline constexpr int kMaxReturns = 8;
+
 // Receiver and detector (seed 001 eqs. 4–13).
 struct ReceiverParams {
     double aperture_diameter_m = 0.025;
@@ -38,7 +41,7 @@ struct ReceiverParams {
     double min_range_m = 0.5;
     double max_range_m = 120.0;
     double range_resolution_m = 0.0;  // output quantisation (0 = none)
-    int max_returns = 1;              // returns per pulse kept (strongest first when 1)
+    int max_returns = 1;              // returns per pulse kept (strongest first when 1), ≤ kMaxReturns
 };
 
 // Measurement noise (seed 001 eqs. 14–15).
