@@ -146,6 +146,7 @@ std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, do
     const auto t0 = std::chrono::steady_clock::now();
     auto s = std::make_shared<const scene::Scene>(scene::resolve_scene(spec));
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "scene '%s': %s\n", spec.c_str(), scene::describe(*s).c_str());
     return s;
 }
 

@@ -123,6 +123,7 @@ class SceneLoader {
         if (root["description"] && !root["description"].IsScalar()) {
             fail("description", "expected a string", root["description"]);
         }
+        if (root["description"]) scene_.description = root["description"].Scalar();
         if (root["georef"]) georef(root["georef"], "georef");
         if (root["materials"]) materials(root["materials"], "materials");
         if (!root["objects"]) fail("objects", "missing (a scene needs at least one object)", root);

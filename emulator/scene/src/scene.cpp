@@ -3,6 +3,7 @@
 
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "mirage/core/error.hpp"
 
@@ -113,6 +114,25 @@ Eigen::AlignedBox3d Scene::bounds() const {
         }
     }
     return box;
+}
+
+std::string describe(const Scene& scene) {
+    std::vector<std::uint32_t> placements(scene.meshes.size(), 0);
+    for (const Instance& i : scene.instances) ++placements[i.mesh];
+    constexpr std::size_t kNamed = 12;  // a summary line, not a listing
+    std::string meshes;
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        if (m == kNamed) {
+            meshes += " and " + std::to_string(scene.meshes.size() - kNamed) + " more";
+            break;
+        }
+        if (!meshes.empty()) meshes += ", ";
+        meshes += scene.meshes[m].name.empty() ? "(unnamed)" : scene.meshes[m].name;
+        if (placements[m] > 1) meshes += " (x" + std::to_string(placements[m]) + ")";
+    }
+    std::string out = scene.description.empty() ? "" : scene.description + "; ";
+    return out + "meshes: " + meshes + "; " + std::to_string(scene.placed_triangle_count()) +
+           " triangles, " + std::to_string(scene.materials.size()) + " materials";
 }
 
 }  // namespace mirage::scene
