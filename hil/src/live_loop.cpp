@@ -9,11 +9,6 @@
 #include "mirage/render/pipeline.hpp"
 
 namespace mirage::hil {
-namespace {
-
-std::size_t track_index(navpose::Track t) { return t == navpose::Track::Position ? 0 : 1; }
-
-}  // namespace
 
 LiveSession::LiveSession(Job& job, output::PacketOutput& out, navio::NavInput& nav,
                          const navpose::PoseBuffer& poses, LiveOptions options)
@@ -23,48 +18,7 @@ void LiveSession::on_packet(const wire::PacketView& p) {
     out_(p);
     ++tot_.packets;
     tot_.bytes += p.bytes.size();
-    if (p.stream != wire::Stream::Data || rendered_.empty()) return;
-    const std::int64_t sent = hostclock::monotonic_ns();
-    for (const std::uint64_t seq : rendered_) {
-        const auto it = pending_.find(seq);
-        tot_.latency.add(core::Nanos(std::max<std::int64_t>(0, sent - it->second.arrival_ns)));
-        pending_.erase(it);
-    }
-    rendered_.clear();
-}
-
-void LiveSession::take_messages() {
-    for (const navio::AppliedMessage& m : nav_.take_applied()) {
-        if (!timing_) continue;
-        pending_[m.tag.seq] = {m.tag.arrival_ns, m.position, m.attitude, false};
-        ++tot_.messages;
-    }
-}
-
-// Messages not yet in a packet become due with the next data packet.
-void LiveSession::note_used(const std::vector<navpose::UsedMessage>& used) {
-    for (const navpose::UsedMessage& u : used) {
-        const std::size_t k = track_index(u.track);
-        if (!any_used_[k] || u.tag.seq > newest_used_[k]) newest_used_[k] = u.tag.seq;
-        any_used_[k] = true;
-        const auto it = pending_.find(u.tag.seq);
-        if (it == pending_.end() || it->second.rendered) continue;  // backlog, or already due
-        it->second.rendered = true;
-        rendered_.push_back(u.tag.seq);
-    }
-}
-
-// What never reached a packet: superseded when every track it updated had a newer sample used
-// before it (a window always uses the newest samples up to its time).
-void LiveSession::count_unused() {
-    for (const auto& [seq, m] : pending_) {
-        const bool pos_newer = !m.position || (any_used_[0] && newest_used_[0] > seq);
-        const bool att_newer = !m.attitude || (any_used_[1] && newest_used_[1] > seq);
-        if (!m.rendered && pos_newer && att_newer)
-            ++tot_.superseded;
-        else
-            ++tot_.unused_at_end;
-    }
+    if (p.stream == wire::Stream::Data) latency_.data_packet_sent(hostclock::monotonic_ns());
 }
 
 LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per_window,
@@ -80,8 +34,7 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
     bool stale = false;
     std::string stale_reason;
     sensor::PulseSpec spec_first{}, spec_last{};
-    take_messages();  // the backlog before pulse 0 is not latency
-    timing_ = true;
+    (void)nav_.take_applied();  // the backlog before pulse 0 is not latency
 
     for (std::uint64_t k = 0; !stop.load(); k += pulses_per_window) {
         scan.pulses(k, 1, &spec_first);
@@ -97,10 +50,10 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         const auto win = poses_.window(t_first, t_last, (t_last - t_first) / 2);
         // After the window: every message it used has been listed by then (NavInput lists a
         // message before its samples reach the pose buffer).
-        take_messages();
+        latency_.applied(nav_.take_applied());
         if (win) {
             wr.render(win->trajectory, k, pulses_per_window, pts, rstats);
-            note_used(win->used);
+            latency_.rendered(win->used);
             stale = false;
         } else {
             ++tot_.stale_windows;
@@ -118,8 +71,12 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         if (opt_.status_line) print_status(t_last, stale, stale_reason);
     }
     if (opt_.status_line) std::fprintf(stderr, "\n");
-    take_messages();
-    count_unused();
+    latency_.applied(nav_.take_applied());
+    const navio::MessageLatency::Unused unused = latency_.unused();
+    tot_.latency = latency_.latency();
+    tot_.messages = latency_.messages();
+    tot_.superseded = unused.superseded;
+    tot_.waiting_at_end = unused.waiting;
     tot_.seconds = double(hostclock::monotonic_ns() - t_begin) / 1e9;
     return tot_;
 }
@@ -139,7 +96,7 @@ void LiveSession::print_status(core::GpsTime t_last, bool stale, const std::stri
                  stale ? " — STALE: " : "", stale ? stale_reason.c_str() : "",
                  static_cast<unsigned long long>(tot_.packets - packets_at_status_),
                  double(tot_.bytes - bytes_at_status_) * 8e-6,
-                 double(tot_.latency.percentile(0.99).count()) / 1e6);
+                 double(latency_.latency().percentile(0.99).count()) / 1e6);
     std::fflush(stderr);
     nav_at_status_ = nc.track.applied;
     packets_at_status_ = tot_.packets;

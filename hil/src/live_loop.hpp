@@ -3,11 +3,10 @@
 #include <atomic>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
-#include <vector>
 
 #include "job.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/navio/message_latency.hpp"
 #include "mirage/navio/nav_input.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "mirage/udp/lateness_histogram.hpp"
@@ -30,9 +29,9 @@ struct LiveTotals {
     // packet rendered with a pose from it (interpolation uses both samples, extrapolation the
     // newest).
     udp::LatenessHistogram latency{core::Nanos{2'000'000}};
-    std::uint64_t messages = 0;       // messages applied after pulse 0
-    std::uint64_t superseded = 0;     // never in a packet: newer samples of their tracks came first
-    std::uint64_t unused_at_end = 0;  // not yet in a packet when the run ended
+    std::uint64_t messages = 0;    // messages applied after pulse 0
+    std::uint64_t superseded = 0;  // never in a packet: newer samples of their tracks came first
+    std::uint64_t waiting_at_end = 0;  // not yet in a packet when the run ended
     double seconds = 0;
 };
 
@@ -58,14 +57,6 @@ class LiveSession {
                    const std::atomic<bool>& stop);
 
   private:
-    struct Pending {
-        std::int64_t arrival_ns = 0;
-        bool position = false, attitude = false;
-        bool rendered = false;  // used by a window whose packet has not been sent yet
-    };
-    void take_messages();
-    void note_used(const std::vector<navpose::UsedMessage>& used);
-    void count_unused();
     void print_status(core::GpsTime t_last, bool stale, const std::string& stale_reason);
 
     Job& job_;
@@ -74,11 +65,7 @@ class LiveSession {
     const navpose::PoseBuffer& poses_;
     LiveOptions opt_;
     LiveTotals tot_;
-    std::unordered_map<std::uint64_t, Pending> pending_;  // by message sequence number
-    std::vector<std::uint64_t> rendered_;                 // pending_ keys with rendered = true
-    std::uint64_t newest_used_[2] = {0, 0};               // by navpose::Track
-    bool any_used_[2] = {false, false};
-    bool timing_ = false;  // after the backlog was dropped
+    navio::MessageLatency latency_;
     std::int64_t next_status_ns_ = 0;
     std::uint64_t packets_at_status_ = 0, bytes_at_status_ = 0, nav_at_status_ = 0;
 };
