@@ -9,14 +9,22 @@ namespace {
 
 double seconds(core::Nanos d) { return double(d.count()) * 1e-9; }
 
+// The rotation `r` continued by the factor f (shortest way round). Written out rather than
+// through Eigen::AngleAxisd, whose stableNorm trips g++ 12's maybe-uninitialized on AVX-512.
+Eigen::Quaterniond scaled_rotation(Eigen::Quaterniond r, double f) {
+    if (r.w() < 0) r.coeffs() = -r.coeffs();
+    const double s = r.vec().norm();
+    if (!(s > 0)) return Eigen::Quaterniond::Identity();
+    return Eigen::Quaterniond(Eigen::AngleAxisd(2.0 * std::atan2(s, r.w()) * f, r.vec() / s));
+}
+
 void note(std::vector<UsedMessage>* used, const MessageTag& tag, Track track) {
     if (!used) return;
     const UsedMessage m{tag, track};
     if (std::find(used->begin(), used->end(), m) == used->end()) used->push_back(m);
 }
 
-// The newest sample of a track and the one bracketing t from below (interpolation between
-// them, or extrapolation from the newest); index of the upper one.
+// Index of the first sample after t.
 template <class Deque>
 std::size_t upper_index(const Deque& d, core::GpsTime t) {
     const auto it = std::upper_bound(d.begin(), d.end(), t,
@@ -83,9 +91,8 @@ PoseBuffer::Query PoseBuffer::at_locked(core::GpsTime t, std::vector<UsedMessage
         q.pose.attitude = b.q;
         if (att_.size() >= 2 && t > b.t) {
             const AttSample& a = att_[att_.size() - 2];
-            Eigen::AngleAxisd step(a.q.conjugate() * b.q);
-            step.angle() *= double((t - b.t).count()) / double((b.t - a.t).count());
-            q.pose.attitude = (b.q * Eigen::Quaterniond(step)).normalized();
+            const double f = double((t - b.t).count()) / double((b.t - a.t).count());
+            q.pose.attitude = (b.q * scaled_rotation(a.q.conjugate() * b.q, f)).normalized();
         }
         note(used, b.tag, Track::Attitude);
     } else {
