@@ -283,7 +283,6 @@ void register_live(CLI::App& app) {
         output::PacketOutput out(po);
         const core::Nanos delay(static_cast<std::int64_t>(o->pipeline_delay_us * 1e3));
         LiveOptions lo;
-        lo.pipeline_delay = delay;
         lo.status_line = !o->no_status;
         if (!o->duration.empty()) lo.duration = parse_seconds(o->duration, "--duration");
         LiveSession session(job, out, nav, poses, lo);

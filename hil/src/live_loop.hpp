@@ -14,10 +14,9 @@
 
 namespace mirage::hil {
 
+// When packets leave is the output's business: the caller anchors it at firing time +
+// --pipeline-delay-us.
 struct LiveOptions {
-    // Packets leave at their firing time + this, on the host clock mapped from INS time: room
-    // to render a window after its last firing.
-    core::Nanos pipeline_delay{std::chrono::microseconds(250)};
     core::Nanos duration{0};  // 0: until stopped
     bool status_line = true;
 };
