@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -89,6 +90,17 @@ void make_link(const std::string& link, const std::string& target) {
     if (ec) throw IoError("fake-ins: cannot create link '" + link + "': " + ec.message());
 }
 
+// --log: the frame the rules measure jumps in, a tangent plane at the log's first fix (metres
+// differ from a scene's UTM grid by its scale factor, < 0.1 %).
+navpose::NavFrame first_fix_frame(const navproto::NavLog& log) {
+    for (const auto& s : log.samples)
+        if (s.has(nav::NavSample::kPosition) && std::isfinite(s.lat_deg) &&
+            std::isfinite(s.lon_deg) && std::isfinite(s.height_m) && std::abs(s.lat_deg) <= 90 &&
+            std::abs(s.lon_deg) <= 180)
+            return navpose::NavFrame::tangent_plane(s.lat_deg, s.lon_deg, s.height_m);
+    return navpose::NavFrame::tangent_plane(0, 0, 0);
+}
+
 }  // namespace
 
 void register_fake_ins(CLI::App& app) {
@@ -106,6 +118,7 @@ void register_fake_ins(CLI::App& app) {
         std::string log;
         double speed = 1.0;
         std::string nav_date;
+        double max_jump_m = 20;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--trajectory", o->job.trajectory,
@@ -120,6 +133,10 @@ void register_fake_ins(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--nav-date", o->nav_date,
                     "--log, NMEA without RMC/ZDA: the log's UTC date YYYY-MM-DD (default: today)");
+    cmd->add_option("--max-jump-m", o->max_jump_m,
+                    "--log: the rule `mirage live --max-jump-m` applies, for the report of what "
+                    "live would reject in the log (the log is replayed as recorded)")
+        ->capture_default_str();
     cmd->add_option("--scene", o->job.scene, "Scene whose georeference maps local to WGS84")
         ->capture_default_str();
     cmd->add_option("--protocol", o->protocol, "nmea, novatel, ncom, oxts-can or sbg-can")
@@ -153,6 +170,13 @@ void register_fake_ins(CLI::App& app) {
             lo.nmea_date = o->nav_date;
             log = navproto::read_nav_log(o->log, proto, lo);
             std::printf("fake-ins: %s\n", navproto::nav_log_summary(*log).c_str());
+            // Replayed byte for byte, faults included (that is what a receiver is tested with);
+            // what `mirage live` would refuse in it, counted by the same decoder and rules:
+            navpose::NavMapperConfig mc;
+            mc.gate.max_jump_m = o->max_jump_m;
+            const auto tracks = navproto::nav_log_tracks(*log, first_fix_frame(*log), mc);
+            std::printf("fake-ins: as live counts it: %s\n",
+                        navpose::nav_counters_line(log->stats.decode, tracks.counters).c_str());
             if (log->stats.messages == 0)
                 throw ConfigError("fake-ins: nav log '" + o->log + "': nothing to replay");
         } else {

@@ -142,7 +142,6 @@ void register_live(CLI::App& app) {
         navpose::PoseBufferConfig pc;
         pc.max_extrapolation =
             core::Nanos(static_cast<std::int64_t>(o->max_extrapolation_ms * 1e6));
-        pc.max_jump_m = o->max_jump_m;
         navpose::PoseBuffer poses(pc);
         const auto& stop = install_stop_signal();
 
@@ -178,7 +177,8 @@ void register_live(CLI::App& app) {
                                                     : o->nav_record_ifname)
                     : std::string());
         navio::NavInputOptions nio;
-        nio.undulation_m = o->undulation_m;
+        nio.mapper.undulation_m = o->undulation_m;
+        nio.mapper.gate.max_jump_m = o->max_jump_m;
         nio.nmea_date = o->nav_date;
         nio.pose_log = pose_log.get();
         nio.record = nav_record.get();
@@ -249,12 +249,11 @@ void register_live(CLI::App& app) {
         while (!stop.load() && !(first = poses.newest())) {
             if (std::chrono::steady_clock::now() > deadline) {
                 const auto c = nav.counters();
-                const auto d = nav.decode_counters();
                 throw IoError(fmt::format(
                     "live: no full pose (position + attitude + time) from '{}' within {} s "
-                    "(samples {}, without time {}, rejected {}, bytes skipped {})",
-                    o->nav, o->first_nav_timeout_s, c.samples, c.no_time,
-                    c.decode_rejected + c.pose_rejected, d.garbage_bytes));
+                    "({}; bytes skipped {})",
+                    o->nav, o->first_nav_timeout_s, navpose::nav_counters_line(c.decode, c.track),
+                    c.decode.garbage_bytes));
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
@@ -281,69 +280,45 @@ void register_live(CLI::App& app) {
         wire::WireOptions wo = o->wire;
         wo.position_packets = ports.position != 0;
         wo.imu_packets = ports.imu != 0;
-        std::optional<output::PacketOutput> out;
-        std::uint64_t packets = 0, bytes = 0;
-        std::int64_t first_send = 0;
-        wire::WireSetup w = wire::make_wire(
-            wire_context(job), wo,
-            [&](const wire::PacketView& p) {
-                (*out)(p);
-                ++packets;
-                bytes += p.bytes.size();
-                if (first_send == 0 && p.stream == wire::Stream::Data)
-                    first_send = hostclock::monotonic_ns();
-            },
-            o->to);
-        out.emplace(po);
+        output::PacketOutput out(po);
         const core::Nanos delay(static_cast<std::int64_t>(o->pipeline_delay_us * 1e3));
-        out->anchor(job.options.start, t0 + nav.offset_ns().value_or(0) + delay.count());
-
         LiveOptions lo;
-        lo.pipeline_delay = delay;
         lo.status_line = !o->no_status;
         if (!o->duration.empty()) lo.duration = parse_seconds(o->duration, "--duration");
+        LiveSession session(job, out, nav, poses, lo);
+        wire::WireSetup w = wire::make_wire(
+            wire_context(job), wo, [&](const wire::PacketView& p) { session.on_packet(p); }, o->to);
+        out.anchor(job.options.start, t0 + nav.offset_ns().value_or(0) + delay.count());
         const std::size_t window = pulses_per_packet(job, w.packets_per_second);
         std::fprintf(
             stderr,
             "mirage live: first pose at gps:%.3f; pulse 0 at gps:%.3f; %zu pulses "
-            "per window -> %s\n",
+            "per window, %d sub-rays -> %s\n",
             double(first->time_since_epoch().count()) / 1e9, double(t0) / 1e9, window,
+            job.sensor.beam.sub_rays,
             o->to.empty() ? "(no network)" : fmt::format("{}:{}", o->to, ports.data).c_str());
-        (void)nav.take_arrivals();  // the backlog before pulse 0 is not latency
-        LiveTotals t = run_live(job, *w.packetizer, *out, window, nav, poses, lo, stop, packets,
-                                bytes, first_send);
+        LiveTotals t = session.run(*w.packetizer, window, stop);
         w.packetizer->finish();
-        const output::PacketOutputTotals pt = out->finish();
+        const output::PacketOutputTotals pt = out.finish();
         nav.stop();
         const auto nc = nav.counters();
-        const auto dc = nav.decode_counters();
-        const auto pbc = poses.counters();
         std::printf(
-            "mirage live: %llu packets (%.2f MB) in %.3f s, %llu points; windows %llu, stale "
-            "windows %llu in %llu periods; nav samples %llu applied %llu, decode rejected %llu "
-            "(bad checksum %llu, truncated %llu, invalid %llu), pose rejected %llu (time "
-            "backwards %llu, jumps %llu, not finite %llu), without time %llu; INS->packet "
-            "latency p50 %.3f ms p99 %.3f ms max %.3f ms (%llu messages); packet lateness p99 "
-            "%.0f µs, late %llu, failed sends %llu\n",
+            "mirage live: %llu packets (%.2f MB) in %.3f s, %llu points, %d sub-rays; windows "
+            "%llu, stale windows %llu in %llu periods; %s; INS->packet latency p50 %.3f ms p99 "
+            "%.3f ms max %.3f ms (%llu messages; never in a packet: %llu superseded, %llu "
+            "waiting at the end); packet lateness p99 %.0f µs, late %llu, failed sends %llu\n",
             static_cast<unsigned long long>(t.packets), double(t.bytes) / 1e6, t.seconds,
-            static_cast<unsigned long long>(t.points), static_cast<unsigned long long>(t.windows),
+            static_cast<unsigned long long>(t.points), job.sensor.beam.sub_rays,
+            static_cast<unsigned long long>(t.windows),
             static_cast<unsigned long long>(t.stale_windows),
             static_cast<unsigned long long>(t.stale_periods),
-            static_cast<unsigned long long>(nc.samples),
-            static_cast<unsigned long long>(nc.applied),
-            static_cast<unsigned long long>(nc.decode_rejected),
-            static_cast<unsigned long long>(dc.bad_checksum),
-            static_cast<unsigned long long>(dc.truncated),
-            static_cast<unsigned long long>(dc.invalid_field),
-            static_cast<unsigned long long>(nc.pose_rejected),
-            static_cast<unsigned long long>(pbc.time_backwards),
-            static_cast<unsigned long long>(pbc.position_jumps),
-            static_cast<unsigned long long>(pbc.not_finite),
-            static_cast<unsigned long long>(nc.no_time),
+            navpose::nav_counters_line(nc.decode, nc.track).c_str(),
             double(t.latency.percentile(0.5).count()) / 1e6,
             double(t.latency.percentile(0.99).count()) / 1e6,
             double(t.latency.worst().count()) / 1e6,
-            static_cast<unsigned long long>(t.latency.count()), double(pt.p99.count()) / 1e3,
+            static_cast<unsigned long long>(t.latency.count()),
+            static_cast<unsigned long long>(t.superseded),
+            static_cast<unsigned long long>(t.waiting_at_end), double(pt.p99.count()) / 1e3,
             static_cast<unsigned long long>(pt.late),
             static_cast<unsigned long long>(pt.send_failed));
         std::fflush(stdout);

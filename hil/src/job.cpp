@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "mirage/core/error.hpp"
-#include "mirage/navproto/nav_log.hpp"
+#include "mirage/navproto/nav_log_resim.hpp"
 #include "mirage/scene/demo_town.hpp"
 #include "mirage/scene/loader.hpp"
 
@@ -179,35 +179,11 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
     if (!in.nav_log.empty()) {
         if (!tspec.empty())
             throw ConfigError("--nav-log: give --trajectory or --nav-log, not both");
-        const navproto::NavProtocol proto = navproto::parse_nav_protocol(in.nav_protocol);
-        navpose::NavFrame frame = navpose::NavFrame::tangent_plane(0, 0, 0);
-        if (!in.nav_origin.empty()) {
-            frame = navproto::parse_nav_origin(in.nav_origin);
-        } else {
-            try {
-                frame = navpose::NavFrame::from_georef(job.scene->georef);
-            } catch (const ConfigError& e) {
-                throw ConfigError(
-                    fmt::format("--nav-log: {} (or give --nav-origin lat,lon,h)", e.what()));
-            }
-        }
-        navproto::NavLogOptions lo;
-        lo.nmea_date = in.nav_date;
-        const navproto::NavLog log = navproto::read_nav_log(in.nav_log, proto, lo);
-        std::fprintf(stderr, "%s\n", navproto::nav_log_summary(log).c_str());
-        navproto::NavTrackOptions to;
-        to.undulation_m = in.nav_undulation_m;
-        to.interpolation =
-            in.interpolation == "linear" ? core::Interpolation::Linear : core::Interpolation::Cubic;
-        navproto::NavTrackStats ts;
-        job.trajectory = navproto::nav_log_trajectory(log, frame, to, &ts);
-        std::fprintf(stderr,
-                     "nav log: %llu positions, %llu attitudes%s -> %llu poses over %.3f s\n",
-                     static_cast<unsigned long long>(ts.positions),
-                     static_cast<unsigned long long>(ts.attitudes),
-                     ts.heading_only ? " (heading only: level)" : "",
-                     static_cast<unsigned long long>(ts.poses),
-                     double((job.trajectory.end() - job.trajectory.begin()).count()) * 1e-9);
+        job.trajectory = navproto::resimulate_nav_log(
+            {in.nav_log, in.nav_protocol, in.nav_origin, in.nav_date, in.nav_undulation_m,
+             in.interpolation == "linear" ? core::Interpolation::Linear
+                                          : core::Interpolation::Cubic},
+            job.scene->georef, stderr);
         if (in.start.empty()) start = job.trajectory.begin();
         span = job.trajectory.end() - start;
     } else if (tspec.empty() || tspec.rfind("static:", 0) == 0) {

@@ -2,104 +2,107 @@
 #include "live_loop.hpp"
 
 #include <fmt/format.h>
-#include <time.h>
 
 #include <cstdio>
 
 #include "mirage/hostclock/host_clock.hpp"
 #include "mirage/render/pipeline.hpp"
-#include "mirage/udp/pacer.hpp"
 
 namespace mirage::hil {
-namespace {}  // namespace
 
-LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput& out,
-                    std::size_t pulses_per_window, navio::NavInput& nav,
-                    const navpose::PoseBuffer& poses, const LiveOptions& opt,
-                    const std::atomic<bool>& stop, std::uint64_t& packets_seen,
-                    std::uint64_t& bytes_seen, std::int64_t& first_send_ns) {
-    LiveTotals tot;
-    const core::GpsTime start = job.options.start;
-    const auto& scan = *job.sensor.scan;
-    render::WindowRenderer wr(*job.scene, *job.renderer, job.sensor, job.mount, job.env,
-                              job.options);
+LiveSession::LiveSession(Job& job, output::PacketOutput& out, navio::NavInput& nav,
+                         const navpose::PoseBuffer& poses, LiveOptions options)
+    : job_(job), out_(out), nav_(nav), poses_(poses), opt_(options) {}
+
+void LiveSession::on_packet(const wire::PacketView& p) {
+    out_(p);
+    ++tot_.packets;
+    tot_.bytes += p.bytes.size();
+    if (p.stream == wire::Stream::Data) latency_.data_packet_sent(hostclock::monotonic_ns());
+}
+
+LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per_window,
+                            const std::atomic<bool>& stop) {
+    const core::GpsTime start = job_.options.start;
+    const auto& scan = *job_.sensor.scan;
+    render::WindowRenderer wr(*job_.scene, *job_.renderer, job_.sensor, job_.mount, job_.env,
+                              job_.options);
     std::vector<core::PointRecord> pts;
     render::RenderStats rstats;
     const std::int64_t t_begin = hostclock::monotonic_ns();
-    std::int64_t next_status = t_begin + 1'000'000'000;
-    std::uint64_t packets_at_status = 0, bytes_at_status = 0, nav_at_status = 0;
+    next_status_ns_ = t_begin + 1'000'000'000;
     bool stale = false;
     std::string stale_reason;
-    std::deque<std::int64_t> pending;  // arrivals not yet answered by a packet
     sensor::PulseSpec spec_first{}, spec_last{};
+    (void)nav_.take_applied();  // the backlog before pulse 0 is not latency
 
     for (std::uint64_t k = 0; !stop.load(); k += pulses_per_window) {
         scan.pulses(k, 1, &spec_first);
         scan.pulses(k + pulses_per_window - 1, 1, &spec_last);
         const core::GpsTime t_first = start + core::Nanos(spec_first.t_ns);
         const core::GpsTime t_last = start + core::Nanos(spec_last.t_ns);
-        if (opt.duration.count() > 0 && t_first - start >= opt.duration) break;
-        const std::int64_t off = nav.offset_ns().value_or(0);
+        if (opt_.duration.count() > 0 && t_first - start >= opt_.duration) break;
+        const std::int64_t off = nav_.offset_ns().value_or(0);
         hostclock::sleep_until_monotonic(t_last.time_since_epoch().count() + off);
 
-        for (std::int64_t a : nav.take_arrivals()) pending.push_back(a);
         pts.clear();
-        ++tot.windows;
-        const auto traj = poses.window(t_first, t_last, (t_last - t_first) / 2);
-        if (traj) {
-            wr.render(*traj, k, pulses_per_window, pts, rstats);
-            if (stale) stale = false;
+        ++tot_.windows;
+        const auto win = poses_.window(t_first, t_last, (t_last - t_first) / 2);
+        // After the window: every message it used has been listed by then (NavInput lists a
+        // message before its samples reach the pose buffer).
+        latency_.applied(nav_.take_applied());
+        if (win) {
+            wr.render(win->trajectory, k, pulses_per_window, pts, rstats);
+            latency_.rendered(win->used);
+            stale = false;
         } else {
-            ++tot.stale_windows;
-            if (!stale) {
-                ++tot.stale_periods;
-                stale = true;
-            }
-            const auto q = poses.at(t_last);
+            ++tot_.stale_windows;
+            if (!stale) ++tot_.stale_periods;
+            stale = true;
+            const auto q = poses_.at(t_last);
             stale_reason =
                 q.status == navpose::PoseStatus::Empty
                     ? "no navigation yet"
                     : fmt::format("no navigation for {:.0f} ms", double(q.age.count()) / 1e6);
         }
-        tot.points += pts.size();
-        first_send_ns = 0;
+        tot_.points += pts.size();
         packetizer.add(pts);
         packetizer.advance_to(k + pulses_per_window);
-        if (first_send_ns != 0) {
-            for (std::int64_t a : pending)
-                tot.latency.add(core::Nanos(std::max<std::int64_t>(0, first_send_ns - a)));
-            pending.clear();
-        }
-
-        const std::int64_t now = hostclock::monotonic_ns();
-        if (opt.status_line && now >= next_status) {
-            const auto nc = nav.counters();
-            const auto newest = poses.newest();
-            const double age_ms = newest ? double((t_last - *newest).count()) / 1e6 : 0.0;
-            std::fprintf(stderr,
-                         "\rlive: nav %llu msg/s, rejected %llu, pose age %.1f ms, stale %llu "
-                         "periods%s%s | %llu pkt/s %.2f Mbit/s | INS->packet p99 %.2f ms   ",
-                         static_cast<unsigned long long>(nc.applied - nav_at_status),
-                         static_cast<unsigned long long>(nc.decode_rejected + nc.pose_rejected),
-                         age_ms, static_cast<unsigned long long>(tot.stale_periods),
-                         stale ? " — STALE: " : "", stale ? stale_reason.c_str() : "",
-                         static_cast<unsigned long long>(packets_seen - packets_at_status),
-                         double(bytes_seen - bytes_at_status) * 8e-6,
-                         double(tot.latency.percentile(0.99).count()) / 1e6);
-            std::fflush(stderr);
-            nav_at_status = nc.applied;
-            packets_at_status = packets_seen;
-            bytes_at_status = bytes_seen;
-            next_status += 1'000'000'000;
-            if (next_status < now) next_status = now + 1'000'000'000;
-        }
+        if (opt_.status_line) print_status(t_last, stale, stale_reason);
     }
-    if (opt.status_line) std::fprintf(stderr, "\n");
-    tot.packets = packets_seen;
-    tot.bytes = bytes_seen;
-    tot.seconds = double(hostclock::monotonic_ns() - t_begin) / 1e9;
-    (void)out;
-    return tot;
+    if (opt_.status_line) std::fprintf(stderr, "\n");
+    latency_.applied(nav_.take_applied());
+    const navio::MessageLatency::Unused unused = latency_.unused();
+    tot_.latency = latency_.latency();
+    tot_.messages = latency_.messages();
+    tot_.superseded = unused.superseded;
+    tot_.waiting_at_end = unused.waiting;
+    tot_.seconds = double(hostclock::monotonic_ns() - t_begin) / 1e9;
+    return tot_;
+}
+
+void LiveSession::print_status(core::GpsTime t_last, bool stale, const std::string& stale_reason) {
+    const std::int64_t now = hostclock::monotonic_ns();
+    if (now < next_status_ns_) return;
+    const auto nc = nav_.counters();
+    const auto newest = poses_.newest();
+    const double age_ms = newest ? double((t_last - *newest).count()) / 1e6 : 0.0;
+    std::fprintf(stderr,
+                 "\rlive: nav %llu msg/s, rejected %llu, pose age %.1f ms, stale %llu "
+                 "periods%s%s | %llu pkt/s %.2f Mbit/s | INS->packet p99 %.2f ms   ",
+                 static_cast<unsigned long long>(nc.track.applied - nav_at_status_),
+                 static_cast<unsigned long long>(nc.decode.rejected() + nc.track.rejected()),
+                 age_ms, static_cast<unsigned long long>(tot_.stale_periods),
+                 stale ? " — STALE: " : "", stale ? stale_reason.c_str() : "",
+                 static_cast<unsigned long long>(tot_.packets - packets_at_status_),
+                 double(tot_.bytes - bytes_at_status_) * 8e-6,
+                 double(latency_.latency().percentile(0.99).count()) / 1e6);
+    std::fflush(stderr);
+    nav_at_status_ = nc.track.applied;
+    packets_at_status_ = tot_.packets;
+    bytes_at_status_ = tot_.bytes;
+    next_status_ns_ += 1'000'000'000;
+    if (next_status_ns_ < now) next_status_ns_ = now + 1'000'000'000;
 }
 
 }  // namespace mirage::hil

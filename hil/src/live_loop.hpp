@@ -2,9 +2,11 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <string>
 
 #include "job.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/navio/message_latency.hpp"
 #include "mirage/navio/nav_input.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "mirage/udp/lateness_histogram.hpp"
@@ -12,10 +14,9 @@
 
 namespace mirage::hil {
 
+// When packets leave is the output's business: the caller anchors it at firing time +
+// --pipeline-delay-us.
 struct LiveOptions {
-    // Packets leave at their firing time + this, on the host clock mapped from INS time: room
-    // to render a window after its last firing.
-    core::Nanos pipeline_delay{std::chrono::microseconds(250)};
     core::Nanos duration{0};  // 0: until stopped
     bool status_line = true;
 };
@@ -23,7 +24,13 @@ struct LiveOptions {
 struct LiveTotals {
     std::uint64_t windows = 0, stale_windows = 0, stale_periods = 0;
     std::uint64_t packets = 0, bytes = 0, points = 0;
-    udp::LatenessHistogram latency{core::Nanos{2'000'000}};  // INS message -> first packet
+    // Per navigation message applied after pulse 0: its arrival -> the send of the first data
+    // packet rendered with a pose from it (interpolation uses both samples, extrapolation the
+    // newest).
+    udp::LatenessHistogram latency{core::Nanos{2'000'000}};
+    std::uint64_t messages = 0;    // messages applied after pulse 0
+    std::uint64_t superseded = 0;  // never in a packet: newer samples of their tracks came first
+    std::uint64_t waiting_at_end = 0;  // not yet in a packet when the run ended
     double seconds = 0;
 };
 
@@ -31,11 +38,35 @@ struct LiveTotals {
 // soon as its last firing time has passed on the INS clock (so every message up to then is in
 // the pose buffer), with poses interpolated — or extrapolated within the buffer's horizon — at
 // each firing; a window without a pose (stale navigation) still sends its packets, with no
-// returns. Pulse 0 fires at job.options.start (INS GPS time).
-LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput& out,
-                    std::size_t pulses_per_window, navio::NavInput& nav,
-                    const navpose::PoseBuffer& poses, const LiveOptions& opt,
-                    const std::atomic<bool>& stop, std::uint64_t& packets_seen,
-                    std::uint64_t& bytes_seen, std::int64_t& first_send_ns);
+// returns. Pulse 0 fires at job.options.start (INS GPS time). Each window notes the messages
+// its poses came from; the first data packet sent after it times them (docs/live-navigation.md).
+class LiveSession {
+  public:
+    LiveSession(Job& job, output::PacketOutput& out, navio::NavInput& nav,
+                const navpose::PoseBuffer& poses, LiveOptions options);
+    LiveSession(const LiveSession&) = delete;
+    LiveSession& operator=(const LiveSession&) = delete;
+
+    // The packetizer's sink: sends the packet and counts it; a data packet times the messages
+    // of the windows rendered since the last one (a packet holds the pulses of those windows).
+    void on_packet(const wire::PacketView& p);
+    // Renders windows of `pulses_per_window` pulses into `packetizer` until the duration is over
+    // or `stop` is set; messages applied before the call are the backlog, not timed.
+    LiveTotals run(wire::Packetizer& packetizer, std::size_t pulses_per_window,
+                   const std::atomic<bool>& stop);
+
+  private:
+    void print_status(core::GpsTime t_last, bool stale, const std::string& stale_reason);
+
+    Job& job_;
+    output::PacketOutput& out_;
+    navio::NavInput& nav_;
+    const navpose::PoseBuffer& poses_;
+    LiveOptions opt_;
+    LiveTotals tot_;
+    navio::MessageLatency latency_;
+    std::int64_t next_status_ns_ = 0;
+    std::uint64_t packets_at_status_ = 0, bytes_at_status_ = 0, nav_at_status_ = 0;
+};
 
 }  // namespace mirage::hil

@@ -14,6 +14,7 @@
 #include <regex>
 #include <thread>
 
+#include "background_mirage.hpp"
 #include "cli_run.hpp"
 #include "mirage/core/georef.hpp"
 #include "mirage/core/time.hpp"
@@ -52,32 +53,6 @@ void write_trajectory(const std::string& path) {
         f << t << ',' << 15 * std::cos(a) << ',' << 15 * std::sin(a) << ",1.8,0,0,"
           << (a + M_PI / 2) * 180 / M_PI << '\n';
     }
-}
-
-struct Background {
-    FILE* pipe = nullptr;
-    std::string output;
-    // Reads lines until one matches `re`; returns it (empty on EOF).
-    std::string wait_for(const std::regex& re) {
-        char buf[1024];
-        while (std::fgets(buf, sizeof buf, pipe)) {
-            output += buf;
-            if (std::regex_search(buf, re)) return buf;
-        }
-        return {};
-    }
-    int finish() {
-        char buf[4096];
-        while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
-        const int st = ::pclose(pipe);
-        return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    }
-};
-
-Background start(const std::string& args) {
-    Background b;
-    b.pipe = ::popen((std::string(MIRAGE_EXE) + " " + args + " 2>&1").c_str(), "r");
-    return b;
 }
 
 core::GpsTime parse_t0(const std::string& line) {
@@ -165,9 +140,9 @@ const char* kLiveCommon =
 
 struct Case {
     std::string protocol;
-    std::string fake_to;   // `mirage fake-ins --to` (with LINK for ptys)
-    std::string nav;       // `mirage live --nav`
-    double tolerance_p99;  // m: the protocol's resolution at ~55 m range
+    std::string fake_to;          // `mirage fake-ins --to` (with LINK for ptys)
+    std::string nav;              // `mirage live --nav`
+    double tolerance_p99;         // m: the protocol's resolution at ~55 m range
     std::string fake_extra = {};  // more `mirage fake-ins` options (faults)
     std::string live_extra = " --max-extrapolation-ms 150";
 };
@@ -182,9 +157,7 @@ std::uint64_t figure(const std::string& out, const std::string& label) {
 std::string run_case(const Case& c) {
     TempDir tmp;
     const std::string scene = tmp.file("yard.yaml"), traj = tmp.file("circle.csv");
-    {
-        std::ofstream(scene) << kScene;
-    }
+    { std::ofstream(scene) << kScene; }
     write_trajectory(traj);
     const core::Trajectory truth = core::load_trajectory_csv(
         traj, core::Georef::projected(32632, {500000, 5000000, 0}), core::Interpolation::Cubic);
@@ -205,27 +178,28 @@ std::string run_case(const Case& c) {
         live_out = r.output;
         t0 = parse_t0(live_out);
     } else if (c.fake_to == "udp") {  // live binds first and tells its port
-        Background live = start("live --scene " + scene + " --nav " + c.nav + kLiveCommon +
-                                std::to_string(rx.port()) + c.live_extra);
+        BackgroundMirage live =
+            start_mirage("live --scene " + scene + " --nav " + c.nav + kLiveCommon +
+                         std::to_string(rx.port()) + c.live_extra);
         const std::string l = live.wait_for(std::regex("udp port [0-9]+"));
         std::smatch m;
         EXPECT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << live.output;
         if (m.empty()) return {};
-        Background fake = start("fake-ins --scene " + scene + " --trajectory " + traj +
-                                " --protocol " + c.protocol + " --duration 6 --to udp://127.0.0.1:" +
-                                m[1].str());
+        BackgroundMirage fake =
+            start_mirage("fake-ins --scene " + scene + " --trajectory " + traj + " --protocol " +
+                         c.protocol + " --duration 6 --to udp://127.0.0.1:" + m[1].str());
         t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
         live_rc = live.finish();
         live_out = live.output;
         fake_rc = fake.finish();
         fake_out = fake.output;
     } else {  // fake INS first: it creates the pty the live command opens
-        Background fake = start("fake-ins --scene " + scene + " --trajectory " + traj +
-                                " --protocol " + c.protocol + " --duration 6 --to " +
-                                subst(c.fake_to) + " " + c.fake_extra);
+        BackgroundMirage fake = start_mirage("fake-ins --scene " + scene + " --trajectory " + traj +
+                                             " --protocol " + c.protocol + " --duration 6 --to " +
+                                             subst(c.fake_to) + " " + c.fake_extra);
         t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
-        const auto r = run_mirage("live --scene " + scene + " --nav " + subst(c.nav) +
-                                  kLiveCommon + std::to_string(rx.port()) + c.live_extra);
+        const auto r = run_mirage("live --scene " + scene + " --nav " + subst(c.nav) + kLiveCommon +
+                                  std::to_string(rx.port()) + c.live_extra);
         live_rc = r.exit_code;
         live_out = r.output;
         fake_rc = fake.finish();
@@ -237,10 +211,11 @@ std::string run_case(const Case& c) {
     EXPECT_NE(t0.time_since_epoch().count(), 0) << live_out << fake_out;
     if (live_rc != 0 || fake_rc != 0 || t0.time_since_epoch().count() == 0) return {};
     const Stats st = check_points(rx.packets(), truth, t0);
-    std::printf("[ %s ] %zu packets, %zu points: distance to the yard median %.4f m, p99 %.4f m, "
-                "max %.4f m, RMS %.4f m\n%s",
-                c.protocol.c_str(), st.packets, st.points, st.median, st.p99, st.max, st.rms,
-                live_out.c_str());
+    std::printf(
+        "[ %s ] %zu packets, %zu points: distance to the yard median %.4f m, p99 %.4f m, "
+        "max %.4f m, RMS %.4f m\n%s",
+        c.protocol.c_str(), st.packets, st.points, st.median, st.p99, st.max, st.rms,
+        live_out.c_str());
     EXPECT_EQ(st.bad_packets, 0u);
     // 3 s of VLP-16 data: 754 packets/s (a few at the ends may fall outside the run).
     EXPECT_GT(st.packets, 2100u);
@@ -277,11 +252,13 @@ TEST(LiveE2E, faults_are_rejected_counted_and_never_applied) {
                   ""});
     ASSERT_FALSE(out.empty());
     EXPECT_NE(out.find("faults: 30 epochs silenced, 1 jumps, 1 backwards, 1 NaN"),
-              std::string::npos) << out;
+              std::string::npos)
+        << out;
     // 300 ms of silence − 50 ms of extrapolation ≈ 250 ms = 188 windows of 1.327 ms (± a message);
     // a loaded machine may add a short stale period of its own, never fewer windows.
     std::smatch m;
-    ASSERT_TRUE(std::regex_search(out, m, std::regex("stale windows ([0-9]+) in ([0-9]+) periods")));
+    ASSERT_TRUE(
+        std::regex_search(out, m, std::regex("stale windows ([0-9]+) in ([0-9]+) periods")));
     const std::uint64_t stale = std::stoull(m[1].str()), periods = std::stoull(m[2].str());
     EXPECT_GE(periods, 1u) << out;
     EXPECT_GT(stale, 170u) << out;

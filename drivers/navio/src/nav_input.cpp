@@ -15,26 +15,15 @@ namespace {
 
 constexpr std::int64_t kOffsetBlockNs = 10'000'000'000;  // lower envelope over 10-20 s
 constexpr auto kPoll = std::chrono::milliseconds(50);
-
-void tally(navpose::AddStatus st, bool& applied, bool& rejected) {
-    if (st == navpose::AddStatus::Accepted)
-        applied = true;
-    else if (st != navpose::AddStatus::Duplicate)
-        rejected = true;
-}
+constexpr std::ptrdiff_t kMaxApplied = 100'000;
 
 }  // namespace
 
 NavInput::NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
-                   double undulation_m)
-    : NavInput(uri, frame, poses, NavInputOptions{undulation_m, "host", nullptr, nullptr}) {}
-
-NavInput::NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
                    const NavInputOptions& options)
     : uri_(uri),
-      frame_(frame),
       poses_(poses),
-      undulation_m_(options.undulation_m),
+      mapper_(frame, options.mapper),
       pose_log_(options.pose_log),
       record_(options.record),
       decoder_(navproto::make_nav_decoder(uri.protocol, options.nmea_date)) {
@@ -109,53 +98,36 @@ void NavInput::run() {
         }
         const nav::DecodeCounters dc = decoder_->counters();
         std::lock_guard lk(mu_);
-        decode_counters_ = dc;
-        counters_.decode_rejected = dc.rejected();
+        counters_.decode = dc;
     }
 }
 
+// The sample numbered in decode order (the mapper counts every one), mapped, and its accepted
+// track updates listed as applied before they reach the pose buffer.
 void NavInput::on_sample(const nav::NavSample& s, std::int64_t host_ns) {
-    using F = nav::NavSample;
+    const navpose::MessageTag tag{mapper_.counters().samples, host_ns};
+    const navpose::TrackUpdates u = mapper_.map(s, tag);
     {
         std::lock_guard lk(mu_);
-        ++counters_.samples;
-        if (!s.has(F::kTime)) {
-            ++counters_.no_time;
-            return;
-        }
+        counters_.track = mapper_.counters();
+        if (!u.position && !u.attitude) return;
+        if (std::ssize(applied_) >= kMaxApplied)  // nobody takes them: keep the newer half
+            applied_.erase(applied_.begin(), applied_.begin() + kMaxApplied / 2);
+        applied_.push_back({tag, u.position.has_value(), u.attitude.has_value()});
     }
-    bool applied = false, rejected = false;
-    if (s.has(F::kPosition)) {
-        last_lat_ = s.lat_deg;
-        last_lon_ = s.lon_deg;
-        have_latlon_ = true;
-        const double h = s.height_m + (s.has(F::kHeightIsMsl) ? undulation_m_ : 0.0);
-        const Eigen::Vector3d local = frame_.local_from_geodetic(s.lat_deg, s.lon_deg, h);
-        std::optional<Eigen::Vector3d> v;
-        if (s.has(F::kVelocity))
-            v = frame_.local_velocity(s.velocity_ned_mps, s.lat_deg, s.lon_deg);
-        const navpose::AddStatus st = poses_.add_position(s.t, local, v);
-        if (st == navpose::AddStatus::Accepted && pose_log_) pose_log_->position(s, local);
-        tally(st, applied, rejected);
+    if (u.position) {
+        poses_.add(*u.position);
+        if (pose_log_) pose_log_->position(s, *u.position);
     }
-    if (s.has(F::kAttitude)) {
-        if (!have_latlon_) {
-            const Eigen::Vector3d g = frame_.geodetic_from_local(Eigen::Vector3d::Zero());
-            last_lat_ = g.x();
-            last_lon_ = g.y();
-        }
-        const Eigen::Quaterniond q =
-            frame_.local_attitude(s.roll_rad, s.pitch_rad, s.heading_rad, last_lat_, last_lon_);
-        const navpose::AddStatus st = poses_.add_attitude(s.t, q);
-        if (st == navpose::AddStatus::Accepted && pose_log_) pose_log_->attitude(s, q);
-        tally(st, applied, rejected);
+    if (u.attitude) {
+        poses_.add(*u.attitude);
+        if (pose_log_) pose_log_->attitude(*u.attitude);
     }
+    track_offset(s, host_ns);
+}
+
+void NavInput::track_offset(const nav::NavSample& s, std::int64_t host_ns) {
     std::lock_guard lk(mu_);
-    if (rejected) ++counters_.pose_rejected;
-    if (!applied) return;
-    ++counters_.applied;
-    arrivals_.push_back(host_ns);
-    if (arrivals_.size() > 100'000) arrivals_.pop_front();
     const std::int64_t off = host_ns - s.t.time_since_epoch().count();
     if (!offset_) {
         offset_ = off;
@@ -182,11 +154,6 @@ NavInputCounters NavInput::counters() const {
     return counters_;
 }
 
-nav::DecodeCounters NavInput::decode_counters() const {
-    std::lock_guard lk(mu_);
-    return decode_counters_;
-}
-
 std::uint16_t NavInput::udp_port() const {
     return stream_ && datagrams_ ? stream_->local_port() : 0;
 }
@@ -196,10 +163,10 @@ std::optional<can::BusCounters> NavInput::bus_counters() const {
     return bus_->counters();
 }
 
-std::deque<std::int64_t> NavInput::take_arrivals() {
+std::vector<AppliedMessage> NavInput::take_applied() {
     std::lock_guard lk(mu_);
-    std::deque<std::int64_t> out;
-    out.swap(arrivals_);
+    std::vector<AppliedMessage> out;
+    out.swap(applied_);
     return out;
 }
 

@@ -84,20 +84,21 @@ PoseLog::PoseLog(const std::string& path)
         "heading_deg\n");
 }
 
-void PoseLog::position(const nav::NavSample& s, const Eigen::Vector3d& local) {
+void PoseLog::position(const nav::NavSample& s, const navpose::PositionUpdate& u) {
     line_.clear();
     fmt::format_to(std::back_inserter(line_), "{},position,{},{},{},,,,,{},{},{},{},,,\n",
-                   core::format_decimal_seconds(s.t.time_since_epoch()), local.x(), local.y(),
-                   local.z(), s.lat_deg, s.lon_deg, s.height_m,
+                   core::format_decimal_seconds(u.t.time_since_epoch()), u.local.x(), u.local.y(),
+                   u.local.z(), s.lat_deg, s.lon_deg, s.height_m,
                    s.has(nav::NavSample::kHeightIsMsl) ? "msl" : "ellipsoid");
     file_.append(line_);
 }
 
-void PoseLog::attitude(const nav::NavSample& s, const Eigen::Quaterniond& q) {
+void PoseLog::attitude(const navpose::AttitudeUpdate& u) {
+    const Eigen::Quaterniond& q = u.attitude;
     line_.clear();
     fmt::format_to(std::back_inserter(line_), "{},attitude,,,,{},{},{},{},,,,,{},{},{}\n",
-                   core::format_decimal_seconds(s.t.time_since_epoch()), q.w(), q.x(), q.y(), q.z(),
-                   deg(s.roll_rad), deg(s.pitch_rad), deg(s.heading_rad));
+                   core::format_decimal_seconds(u.t.time_since_epoch()), q.w(), q.x(), q.y(), q.z(),
+                   deg(u.ned_rpy.x()), deg(u.ned_rpy.y()), deg(u.ned_rpy.z()));
     file_.append(line_);
 }
 

@@ -121,10 +121,13 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     // mirage::nmea decodes the read-back stream exactly as it decoded the file.
     nmea::NmeaDecoder d;
     d.set_date_hint(*nmea::make_date(2014, 2, 19));
-    std::uint64_t timed = 0;
-    d.feed(std::string_view(all),
-           [&](const nav::NavSample& s) { timed += s.has(nav::NavSample::kTime) ? 1 : 0; });
-    EXPECT_EQ(timed, log.samples.size());
+    std::uint64_t samples = 0, timed = 0;
+    d.feed(std::string_view(all), [&](const nav::NavSample& s) {
+        ++samples;
+        timed += s.has(nav::NavSample::kTime) ? 1 : 0;
+    });
+    EXPECT_EQ(samples, log.samples.size());  // the log keeps untimed samples too (HDT)
+    EXPECT_EQ(timed, log.stats.samples - log.stats.untimed_samples);
     EXPECT_EQ(d.counters().rejected(), 0u);
 }
 

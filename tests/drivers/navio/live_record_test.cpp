@@ -238,10 +238,17 @@ TEST(PoseLog, rows_read_back_to_the_exact_values_applied) {
     s.heading_rad = 350.0 * M_PI / 180.0;  // a heading near north stays in [0, 360)
     const Eigen::Vector3d local(12.345678901234, -0.1, 1e-7);
     const Eigen::Quaterniond q(0.5, -0.5, 0.5, 0.5);
+    navpose::PositionUpdate pu;
+    pu.t = s.t;
+    pu.local = local;
+    navpose::AttitudeUpdate au;
+    au.t = s.t;
+    au.attitude = q;
+    au.ned_rpy = {s.roll_rad, s.pitch_rad, s.heading_rad};
     {
         navio::PoseLog log(path);
-        log.position(s, local);
-        log.attitude(s, q);
+        log.position(s, pu);
+        log.attitude(au);
         ASSERT_TRUE(log.close());
         EXPECT_EQ(log.rows(), 2u);
     }

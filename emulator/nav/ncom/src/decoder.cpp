@@ -17,7 +17,6 @@ constexpr double kMinAltM = -10'000.0;
 constexpr double kMaxAltM = 100'000.0;
 constexpr std::int64_t kNsPerMs = 1'000'000;
 constexpr std::int64_t kNsPerMinute = 60 * core::kNsPerSecond;
-constexpr std::size_t kCompactThreshold = 8192;
 // Channel-0 minutes beyond ~190 years after 1980 are corrupt (and would overflow int64 ns).
 constexpr std::int32_t kMaxGpsMinutes = 100'000'000;
 
@@ -34,38 +33,29 @@ bool is_regular_status(std::uint8_t s) { return s <= kNavExpired; }
 }  // namespace
 
 void NcomDecoder::feed(std::span<const std::uint8_t> bytes, const nav::SampleFn& on_sample) {
-    buf_.insert(buf_.end(), bytes.begin(), bytes.end());
-    for (;;) {
-        const std::size_t avail = buf_.size() - pos_;
-        if (avail == 0) break;
-        if (buf_[pos_] != kSync) {
-            ++counters_.garbage_bytes;
-            ++pos_;
-            in_sync_ = false;
-            continue;
-        }
-        if (avail < kPacketSize) break;
-        const std::span<const std::uint8_t, kPacketSize> pkt(buf_.data() + pos_, kPacketSize);
-        if (!checksums_ok(pkt)) {
-            if (in_sync_)
-                ++counters_.bad_checksum;
-            else
-                ++counters_.garbage_bytes;
-            in_sync_ = false;
-            ++pos_;
-            continue;
-        }
-        handle_packet(pkt, on_sample);
-        in_sync_ = true;
-        pos_ += kPacketSize;
-    }
-    if (pos_ == buf_.size()) {
-        buf_.clear();
-        pos_ = 0;
-    } else if (pos_ >= kCompactThreshold) {
-        buf_.erase(buf_.begin(), buf_.begin() + static_cast<std::ptrdiff_t>(pos_));
-        pos_ = 0;
-    }
+    buf_.append(bytes);
+    buf_.drain(
+        counters_.garbage_bytes,
+        [](std::uint8_t b) { return b == kSync ? nav::ByteKind::Sync : nav::ByteKind::Garbage; },
+        [](std::span<const std::uint8_t> rest) {
+            return rest.size() < kPacketSize ? nav::FrameLength::need_more()
+                                             : nav::FrameLength::complete(kPacketSize);
+        },
+        [&](std::span<const std::uint8_t> frame) -> std::size_t {
+            const std::span<const std::uint8_t, kPacketSize> pkt(frame.data(), kPacketSize);
+            // In sync: this candidate starts where the last good packet ended.
+            const bool in_sync = buf_.offset() == good_end_;
+            if (!checksums_ok(pkt)) {
+                if (in_sync)
+                    ++counters_.bad_checksum;
+                else
+                    ++counters_.garbage_bytes;
+                return 1;
+            }
+            handle_packet(pkt, on_sample);
+            good_end_ = buf_.offset() + kPacketSize;
+            return kPacketSize;
+        });
 }
 
 void NcomDecoder::feed_datagram(std::span<const std::uint8_t> datagram,
@@ -175,10 +165,9 @@ void NcomDecoder::handle_packet(std::span<const std::uint8_t, kPacketSize> bytes
 }
 
 void NcomDecoder::finish() {
-    if (pos_ < buf_.size()) ++counters_.truncated;
+    if (buf_.size() > 0) ++counters_.truncated;
     buf_.clear();
-    pos_ = 0;
-    in_sync_ = false;
+    good_end_ = kNotInSync;
 }
 
 void NcomDecoder::reset() { *this = NcomDecoder(options_); }

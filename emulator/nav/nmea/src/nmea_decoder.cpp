@@ -94,6 +94,12 @@ Eigen::Vector3d ned_from_course(double speed_knots, double track_deg) {
     return {v * std::cos(c), v * std::sin(c), 0.0};
 }
 
+bool is_eol(std::uint8_t b) { return b == '\r' || b == '\n'; }
+
+// A sentence runs from `$` to its line end; its longest text (without CR LF) is
+// kMaxSentenceBytes − 2 bytes.
+constexpr std::size_t kMaxLine = kMaxSentenceBytes - 2;
+
 NavSample make_sample(std::uint32_t fields, std::int64_t gps_ns) {
     NavSample s;
     s.source = nav::Protocol::Nmea;
@@ -117,38 +123,33 @@ void NmeaDecoder::feed(std::string_view text, const nav::SampleFn& on_sample) {
 }
 
 void NmeaDecoder::feed(std::span<const std::uint8_t> bytes, const nav::SampleFn& on_sample) {
-    for (const std::uint8_t b : bytes) {
-        const char c = static_cast<char>(b);
-        const bool eol = c == '\r' || c == '\n';
-        switch (state_) {
-            case State::Hunt:
-            case State::Discard:
-                if (c == '$') {
-                    line_.assign(1, '$');
-                    state_ = State::InSentence;
-                } else if (eol) {
-                    state_ = State::Hunt;  // line ends between sentences are not garbage
-                } else {
-                    ++counters_.garbage_bytes;
-                }
-                break;
-            case State::InSentence:
-                if (c == '$') {
+    buf_.append(bytes);
+    buf_.drain(
+        counters_.garbage_bytes,
+        [](std::uint8_t b) {
+            if (b == '$') return nav::ByteKind::Sync;
+            // Line ends between sentences are not garbage.
+            return is_eol(b) ? nav::ByteKind::Filler : nav::ByteKind::Garbage;
+        },
+        [&](std::span<const std::uint8_t> rest) {
+            for (std::size_t i = 1; i < rest.size(); ++i) {
+                if (is_eol(rest[i])) return nav::FrameLength::complete(i);
+                if (rest[i] == '$') {
                     ++counters_.truncated;  // the next sentence began before this one ended
-                    line_.assign(1, '$');
-                } else if (eol) {
-                    state_ = State::Hunt;
-                    handle_line(line_, on_sample);
-                } else if (line_.size() + 1 + 2 > kMaxSentenceBytes) {
-                    ++counters_.truncated;  // over-long: drop the rest up to the next `$`
-                    ++counters_.garbage_bytes;
-                    state_ = State::Discard;
-                } else {
-                    line_ += c;
+                    return nav::FrameLength::skip(i, false);
                 }
-                break;
-        }
-    }
+                if (i == kMaxLine) {
+                    ++counters_.truncated;  // over-long: the rest up to the next `$` is garbage
+                    return nav::FrameLength::skip(i, false);
+                }
+            }
+            return nav::FrameLength::need_more();
+        },
+        [&](std::span<const std::uint8_t> line) {
+            handle_line(std::string_view(reinterpret_cast<const char*>(line.data()), line.size()),
+                        on_sample);
+            return line.size();
+        });
 }
 
 std::optional<std::int64_t> NmeaDecoder::time_on_kept_date(const UtcTime& t) {

@@ -24,92 +24,65 @@ bool contains_later_sync(std::span<const std::uint8_t> frame) {
     return false;
 }
 
-// Compact the buffer once this much has been consumed (amortised O(1) per byte).
-constexpr std::size_t kCompactThreshold = 8192;
+// The longest frame: a long header (length in one byte), the largest body accepted, the CRC.
+constexpr std::size_t kMaxFrame = 255 + kMaxBodyLength + kCrcSize;
 
 }  // namespace
 
+NovatelDecoder::NovatelDecoder() : buf_(kMaxFrame) {}
+
 void NovatelDecoder::feed(std::span<const std::uint8_t> bytes, const nav::SampleFn& on_sample) {
-    buf_.insert(buf_.end(), bytes.begin(), bytes.end());
+    buf_.append(bytes);
     process(false, on_sample);
 }
 
-void NovatelDecoder::process(bool flushing, const nav::SampleFn& on_sample) {
+// The frame's length from its header, checked in order: sync, header length, body length.
+nav::FrameLength NovatelDecoder::frame_length(std::span<const std::uint8_t> rest, bool flushing) {
+    using nav::FrameLength;
     // An incomplete candidate: wait for bytes, or (flushing) give it up as truncated.
-    const auto incomplete = [&]() {
-        if (!flushing) return false;
+    const auto incomplete = [&] {
+        if (!flushing) return FrameLength::need_more();
         ++counters_.truncated;
-        ++pos_;
-        return true;
+        return FrameLength::skip(1, false);
     };
-    for (;;) {
-        const std::span<const std::uint8_t> rest(buf_.data() + pos_, buf_.size() - pos_);
-        if (rest.empty()) break;
-        if (rest[0] != kSync0) {
-            ++counters_.garbage_bytes;
-            ++pos_;
-            continue;
-        }
-        if (rest.size() < 3) {
-            if (incomplete()) continue;
-            break;
-        }
-        if (rest[1] != kSync1 || (rest[2] != kSyncLong && rest[2] != kSyncShort)) {
-            ++counters_.garbage_bytes;
-            ++pos_;
-            continue;
-        }
-        const bool long_header = rest[2] == kSyncLong;
-        std::size_t total = 0;
-        if (long_header) {
-            if (rest.size() < 10) {
-                if (incomplete()) continue;
-                break;
-            }
-            const std::size_t hlen = rest[3];
-            if (hlen < kLongHeaderSize) {  // not a header: a false sync
-                ++counters_.garbage_bytes;
-                ++pos_;
-                continue;
-            }
-            const std::size_t body = get_u16(rest.data() + 8);
-            if (body > kMaxBodyLength) {  // checked before waiting for the body
-                ++counters_.truncated;
-                ++pos_;
-                continue;
-            }
-            total = hlen + body + kCrcSize;
-        } else {
-            if (rest.size() < 4) {
-                if (incomplete()) continue;
-                break;
-            }
-            total = kShortHeaderSize + rest[3] + kCrcSize;
-        }
-        if (rest.size() < total) {
-            if (incomplete()) continue;
-            break;
-        }
-        const auto frame = rest.first(total);
-        const std::uint32_t stored = get_u32(frame.data() + total - kCrcSize);
-        if (crc32(frame.first(total - kCrcSize)) != stored) {
-            if (contains_later_sync(frame))
-                ++counters_.truncated;
-            else
-                ++counters_.bad_checksum;
-            ++pos_;
-            continue;
-        }
-        handle_frame(frame, long_header, on_sample);
-        pos_ += total;
+    if (rest.size() < 3) return incomplete();
+    if (rest[1] != kSync1 || (rest[2] != kSyncLong && rest[2] != kSyncShort))
+        return FrameLength::skip(1, true);
+    if (rest[2] == kSyncShort) {
+        if (rest.size() < 4) return incomplete();
+        const std::size_t total = kShortHeaderSize + rest[3] + kCrcSize;
+        return rest.size() < total ? incomplete() : FrameLength::complete(total);
     }
-    if (pos_ == buf_.size()) {
-        buf_.clear();
-        pos_ = 0;
-    } else if (pos_ >= kCompactThreshold) {
-        buf_.erase(buf_.begin(), buf_.begin() + static_cast<std::ptrdiff_t>(pos_));
-        pos_ = 0;
+    if (rest.size() < 10) return incomplete();
+    const std::size_t hlen = rest[3];
+    if (hlen < kLongHeaderSize) return FrameLength::skip(1, true);  // not a header: a false sync
+    const std::size_t body = get_u16(rest.data() + 8);
+    if (body > kMaxBodyLength) {  // checked before waiting for the body
+        ++counters_.truncated;
+        return FrameLength::skip(1, false);
     }
+    const std::size_t total = hlen + body + kCrcSize;
+    return rest.size() < total ? incomplete() : FrameLength::complete(total);
+}
+
+void NovatelDecoder::process(bool flushing, const nav::SampleFn& on_sample) {
+    buf_.drain(
+        counters_.garbage_bytes,
+        [](std::uint8_t b) { return b == kSync0 ? nav::ByteKind::Sync : nav::ByteKind::Garbage; },
+        [&](std::span<const std::uint8_t> rest) { return frame_length(rest, flushing); },
+        [&](std::span<const std::uint8_t> frame) -> std::size_t {
+            const std::size_t total = frame.size();
+            const std::uint32_t stored = get_u32(frame.data() + total - kCrcSize);
+            if (crc32(frame.first(total - kCrcSize)) != stored) {
+                if (contains_later_sync(frame))
+                    ++counters_.truncated;
+                else
+                    ++counters_.bad_checksum;
+                return 1;  // a real frame may hide behind a false sync
+            }
+            handle_frame(frame, frame[2] == kSyncLong, on_sample);
+            return total;
+        });
 }
 
 void NovatelDecoder::handle_frame(std::span<const std::uint8_t> frame, bool long_header,
@@ -162,12 +135,10 @@ void NovatelDecoder::emit(const nav::NavSample& s, const nav::SampleFn& on_sampl
 void NovatelDecoder::finish(const nav::SampleFn& on_sample) {
     process(true, on_sample);
     buf_.clear();
-    pos_ = 0;
 }
 
 void NovatelDecoder::reset() {
     buf_.clear();
-    pos_ = 0;
     counters_ = {};
 }
 

@@ -7,9 +7,30 @@
 namespace mirage::navpose {
 namespace {
 
-constexpr int kJumpsBeforeReset = 10;  // a persistent offset is a re-initialisation, not a glitch
-
 double seconds(core::Nanos d) { return double(d.count()) * 1e-9; }
+
+// The rotation `r` continued by the factor f (shortest way round). Written out rather than
+// through Eigen::AngleAxisd, whose stableNorm trips g++ 12's maybe-uninitialized on AVX-512.
+Eigen::Quaterniond scaled_rotation(Eigen::Quaterniond r, double f) {
+    if (r.w() < 0) r.coeffs() = -r.coeffs();
+    const double s = r.vec().norm();
+    if (!(s > 0)) return Eigen::Quaterniond::Identity();
+    return Eigen::Quaterniond(Eigen::AngleAxisd(2.0 * std::atan2(s, r.w()) * f, r.vec() / s));
+}
+
+void note(std::vector<UsedMessage>* used, const MessageTag& tag, Track track) {
+    if (!used) return;
+    const UsedMessage m{tag, track};
+    if (std::find(used->begin(), used->end(), m) == used->end()) used->push_back(m);
+}
+
+// Index of the first sample after t.
+template <class Deque>
+std::size_t upper_index(const Deque& d, core::GpsTime t) {
+    const auto it = std::upper_bound(d.begin(), d.end(), t,
+                                     [](core::GpsTime x, const auto& s) { return x < s.t; });
+    return static_cast<std::size_t>(it - d.begin());
+}
 
 }  // namespace
 
@@ -24,64 +45,23 @@ Eigen::Vector3d PoseBuffer::velocity_at_end() const {
     return (b.p - a.p) / seconds(b.t - a.t);
 }
 
-AddStatus PoseBuffer::add_position(core::GpsTime t, const Eigen::Vector3d& local,
-                                   const std::optional<Eigen::Vector3d>& velocity) {
+void PoseBuffer::add(const PositionUpdate& u) {
     std::lock_guard lk(mu_);
-    if (!local.allFinite() || (velocity && !velocity->allFinite())) {
-        ++counters_.not_finite;
-        return AddStatus::NotFinite;
-    }
-    if (!pos_.empty()) {
-        const PosSample& b = pos_.back();
-        if (t == b.t) {
-            ++counters_.duplicates;
-            return AddStatus::Duplicate;
-        }
-        if (t < b.t) {
-            ++counters_.time_backwards;
-            return AddStatus::TimeBackwards;
-        }
-        if (t - b.t > cfg_.history) {
-            pos_.clear();  // after a long silence the track starts afresh
-        } else {
-            const Eigen::Vector3d predicted = b.p + velocity_at_end() * seconds(t - b.t);
-            if ((local - predicted).norm() > cfg_.max_jump_m) {
-                ++counters_.position_jumps;
-                if (++consecutive_jumps_ < kJumpsBeforeReset) return AddStatus::PositionJump;
-                pos_.clear();
-            }
-        }
-    }
-    consecutive_jumps_ = 0;
-    pos_.push_back({t, local, velocity});
+    if (u.restart) pos_.clear();
+    if (!pos_.empty() && u.t <= pos_.back().t) return;
+    pos_.push_back({u.t, u.local, u.velocity, u.tag});
     while (pos_.size() > 2 && pos_.back().t - pos_.front().t > cfg_.history) pos_.pop_front();
-    ++counters_.accepted;
-    return AddStatus::Accepted;
 }
 
-AddStatus PoseBuffer::add_attitude(core::GpsTime t, const Eigen::Quaterniond& attitude) {
+void PoseBuffer::add(const AttitudeUpdate& u) {
     std::lock_guard lk(mu_);
-    const double n = attitude.norm();
-    if (!attitude.coeffs().allFinite() || !(n > 0.5 && n < 2.0)) {
-        ++counters_.not_finite;
-        return AddStatus::NotFinite;
-    }
-    if (!att_.empty() && t == att_.back().t) {
-        ++counters_.duplicates;
-        return AddStatus::Duplicate;
-    }
-    if (!att_.empty() && t < att_.back().t) {
-        ++counters_.time_backwards;
-        return AddStatus::TimeBackwards;
-    }
-    if (!att_.empty() && t - att_.back().t > cfg_.history) att_.clear();
-    att_.push_back({t, attitude.normalized()});
+    if (u.restart) att_.clear();
+    if (!att_.empty() && u.t <= att_.back().t) return;
+    att_.push_back({u.t, u.attitude.normalized(), u.tag});
     while (att_.size() > 2 && att_.back().t - att_.front().t > cfg_.history) att_.pop_front();
-    ++counters_.accepted;
-    return AddStatus::Accepted;
 }
 
-PoseBuffer::Query PoseBuffer::at_locked(core::GpsTime t) const {
+PoseBuffer::Query PoseBuffer::at_locked(core::GpsTime t, std::vector<UsedMessage>* used) const {
     Query q;
     if (pos_.empty() || att_.empty()) return q;
     const core::GpsTime newest = std::min(pos_.back().t, att_.back().t);
@@ -95,13 +75,15 @@ PoseBuffer::Query PoseBuffer::at_locked(core::GpsTime t) const {
     // Position: linear between the bracketing samples, constant velocity beyond the newest.
     if (t >= pos_.back().t) {
         q.pose.position = pos_.back().p + velocity_at_end() * seconds(t - pos_.back().t);
+        note(used, pos_.back().tag, Track::Position);
     } else {
-        const auto it = std::upper_bound(pos_.begin(), pos_.end(), t,
-                                         [](core::GpsTime x, const PosSample& s) { return x < s.t; });
-        const PosSample& b = *it;
-        const PosSample& a = *(it - 1);
+        const std::size_t i = upper_index(pos_, t);
+        const PosSample& a = pos_[i - 1];
+        const PosSample& b = pos_[i];
         const double f = double((t - a.t).count()) / double((b.t - a.t).count());
         q.pose.position = a.p + f * (b.p - a.p);
+        note(used, a.tag, Track::Position);
+        if (f > 0) note(used, b.tag, Track::Position);
     }
     // Attitude: slerp between samples; beyond the newest, the last angular rate continues.
     if (t >= att_.back().t) {
@@ -109,50 +91,47 @@ PoseBuffer::Query PoseBuffer::at_locked(core::GpsTime t) const {
         q.pose.attitude = b.q;
         if (att_.size() >= 2 && t > b.t) {
             const AttSample& a = att_[att_.size() - 2];
-            Eigen::AngleAxisd step(a.q.conjugate() * b.q);
-            step.angle() *= double((t - b.t).count()) / double((b.t - a.t).count());
-            q.pose.attitude = (b.q * Eigen::Quaterniond(step)).normalized();
+            const double f = double((t - b.t).count()) / double((b.t - a.t).count());
+            q.pose.attitude = (b.q * scaled_rotation(a.q.conjugate() * b.q, f)).normalized();
         }
+        note(used, b.tag, Track::Attitude);
     } else {
-        const auto it = std::upper_bound(att_.begin(), att_.end(), t,
-                                         [](core::GpsTime x, const AttSample& s) { return x < s.t; });
-        const AttSample& b = *it;
-        const AttSample& a = *(it - 1);
+        const std::size_t i = upper_index(att_, t);
+        const AttSample& a = att_[i - 1];
+        const AttSample& b = att_[i];
         const double f = double((t - a.t).count()) / double((b.t - a.t).count());
         q.pose.attitude = a.q.slerp(f, b.q).normalized();
+        note(used, a.tag, Track::Attitude);
+        if (f > 0) note(used, b.tag, Track::Attitude);
     }
     return q;
 }
 
 PoseBuffer::Query PoseBuffer::at(core::GpsTime t) const {
     std::lock_guard lk(mu_);
-    return at_locked(t);
+    return at_locked(t, nullptr);
 }
 
-std::optional<core::Trajectory> PoseBuffer::window(core::GpsTime t0, core::GpsTime t1,
-                                                   core::Nanos step) const {
+std::optional<PoseWindow> PoseBuffer::window(core::GpsTime t0, core::GpsTime t1,
+                                             core::Nanos step) const {
     std::lock_guard lk(mu_);
     std::vector<core::StampedPose> samples;
+    std::vector<UsedMessage> used;
     if (step <= core::Nanos(0)) step = t1 - t0;
     for (core::GpsTime t = t0;; t += step) {
         if (t > t1) t = t1;
-        const Query q = at_locked(t);
+        const Query q = at_locked(t, &used);
         if (q.status == PoseStatus::Stale || q.status == PoseStatus::Empty) return std::nullopt;
         samples.push_back({t, q.pose});
         if (t == t1) break;
     }
-    return core::Trajectory(std::move(samples));
+    return PoseWindow{core::Trajectory(std::move(samples)), std::move(used)};
 }
 
 std::optional<core::GpsTime> PoseBuffer::newest() const {
     std::lock_guard lk(mu_);
     if (pos_.empty() || att_.empty()) return std::nullopt;
     return std::min(pos_.back().t, att_.back().t);
-}
-
-PoseBufferCounters PoseBuffer::counters() const {
-    std::lock_guard lk(mu_);
-    return counters_;
 }
 
 }  // namespace mirage::navpose

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <map>
 #include <sstream>
 #include <type_traits>
 
@@ -26,7 +25,6 @@ namespace mirage::navproto {
 namespace {
 
 constexpr std::int64_t kNsPerDay = 86'400'000'000'000;
-constexpr std::int64_t kExtrapolateNs = 1'000'000'000;
 
 std::vector<std::uint8_t> read_all(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
@@ -51,15 +49,13 @@ std::optional<nmea::Date> nmea_log_date(std::span<const std::uint8_t> bytes) {
     return nmea::Date::from_unix_days(days);
 }
 
-// Counts a decoded sample and keeps it when it carries a time (untimed ones are only counted).
-bool keep_timed(NavLog& log, const nav::NavSample& s) {
+// Keeps a decoded sample (the mapper counts the untimed ones as live does); true if timed.
+bool keep(NavLog& log, const nav::NavSample& s) {
     ++log.stats.samples;
-    if (!s.has(nav::NavSample::kTime)) {
-        ++log.stats.untimed_samples;
-        return false;
-    }
     log.samples.push_back(s);
-    return true;
+    if (s.has(nav::NavSample::kTime)) return true;
+    ++log.stats.untimed_samples;
+    return false;
 }
 
 // NMEA: one message per line; a line's time is that of the timed sample it yields.
@@ -82,7 +78,7 @@ void split_nmea(NavLog& log, const NavLogOptions& opt) {
         m.offset = start;
         m.size = end - start;
         d.feed(all.subspan(start, end - start), [&](const nav::NavSample& s) {
-            if (!keep_timed(log, s)) return;
+            if (!keep(log, s)) return;
             if (!m.timed) {
                 m.t = s.t;
                 m.timed = true;
@@ -103,7 +99,7 @@ void split_binary(NavLog& log, Decoder& d) {
     bool timed = false;
     core::GpsTime t{};
     const auto on = [&](const nav::NavSample& s) {
-        if (!keep_timed(log, s)) return;
+        if (!keep(log, s)) return;
         if (!timed) {
             timed = true;
             t = s.t;
@@ -124,7 +120,7 @@ void split_binary(NavLog& log, Decoder& d) {
 
 template <class Decoder>
 void decode_can(NavLog& log, Decoder& d) {
-    const auto on = [&](const nav::NavSample& s) { keep_timed(log, s); };
+    const auto on = [&](const nav::NavSample& s) { keep(log, s); };
     for (const auto& r : log.frames) {
         if constexpr (std::is_same_v<Decoder, navcan::OxtsCanDecoder>)
             d.feed(r.stamped, on);
@@ -150,15 +146,6 @@ void fill_times(std::vector<NavLogMessage>& msgs) {
         else
             m.t = *prev;
     }
-}
-
-bool finite_position(const nav::NavSample& s) {
-    return std::isfinite(s.lat_deg) && std::isfinite(s.lon_deg) && std::isfinite(s.height_m) &&
-           std::abs(s.lat_deg) <= 90.0 && std::abs(s.lon_deg) <= 360.0;
-}
-
-bool finite_attitude(const nav::NavSample& s) {
-    return std::isfinite(s.roll_rad) && std::isfinite(s.pitch_rad) && std::isfinite(s.heading_rad);
 }
 
 }  // namespace
@@ -211,111 +198,6 @@ NavLog read_nav_log(const std::string& path, NavProtocol protocol, const NavLogO
     return log;
 }
 
-core::Trajectory nav_log_trajectory(const NavLog& log, const navpose::NavFrame& frame,
-                                    const NavTrackOptions& options, NavTrackStats* stats_out) {
-    using F = nav::NavSample;
-    NavTrackStats st;
-    // Keyed by GPS ns: the first sample of an epoch wins (NovAtel BESTPOS repeats INSPVA's time).
-    std::map<std::int64_t, Eigen::Vector3d> pos, vel;
-    std::map<std::int64_t, Eigen::Quaterniond> att, heading_att;
-    double lat = 0, lon = 0;
-    bool have_latlon = false;
-    for (const auto& s : log.samples) {
-        if (s.has(F::kPosition) && finite_position(s)) {
-            lat = s.lat_deg;
-            lon = s.lon_deg;
-            have_latlon = true;
-            break;
-        }
-    }
-    if (!have_latlon) {
-        const Eigen::Vector3d g = frame.geodetic_from_local(Eigen::Vector3d::Zero());
-        lat = g.x();
-        lon = g.y();
-    }
-    for (const auto& s : log.samples) {
-        const std::int64_t t = s.t.time_since_epoch().count();
-        if (s.has(F::kPosition)) {
-            if (!finite_position(s)) {
-                ++st.non_finite;
-                continue;
-            }
-            lat = s.lat_deg;
-            lon = s.lon_deg;
-            const double h = s.height_m + (s.has(F::kHeightIsMsl) ? options.undulation_m : 0.0);
-            pos.emplace(t, frame.local_from_geodetic(s.lat_deg, s.lon_deg, h));
-        }
-        if (s.has(F::kVelocity) && s.velocity_ned_mps.allFinite())
-            vel.emplace(t, frame.local_velocity(s.velocity_ned_mps, lat, lon));
-        if (s.has(F::kAttitude)) {
-            if (!finite_attitude(s)) {
-                ++st.non_finite;
-                continue;
-            }
-            att.emplace(t, frame.local_attitude(s.roll_rad, s.pitch_rad, s.heading_rad, lat, lon));
-        } else if (s.has(F::kHeading) && std::isfinite(s.heading_rad)) {
-            heading_att.emplace(t, frame.local_attitude(0.0, 0.0, s.heading_rad, lat, lon));
-        }
-    }
-    if (att.empty() && !heading_att.empty()) {
-        att = std::move(heading_att);
-        st.heading_only = true;
-    }
-    st.positions = pos.size();
-    st.attitudes = att.size();
-    if (pos.empty() || att.empty())
-        throw ConfigError(fmt::format(
-            "nav log '{}': no usable pose ({} positions, {} attitudes from {} timed samples; "
-            "{} rejected messages) — is --nav-protocol {} right?",
-            log.path, pos.size(), att.size(), log.samples.size(), log.stats.rejected(),
-            to_string(log.protocol)));
-
-    const auto position_at = [&](std::int64_t t) -> Eigen::Vector3d {
-        auto hi = pos.lower_bound(t);
-        if (hi != pos.end() && hi->first == t) return hi->second;
-        if (hi != pos.begin() && hi != pos.end()) {
-            auto lo = std::prev(hi);
-            const double u = double(t - lo->first) / double(hi->first - lo->first);
-            return lo->second + u * (hi->second - lo->second);
-        }
-        // Outside the fixes: dead-reckon with the velocity reported nearest that end.
-        const auto& end = hi == pos.end() ? *pos.rbegin() : *pos.begin();
-        const std::int64_t dt = t - end.first;
-        if (vel.empty() || std::llabs(dt) > kExtrapolateNs) return end.second;
-        auto v = vel.lower_bound(end.first);
-        if (v == vel.end()) v = std::prev(v);
-        if (v != vel.begin() &&
-            std::llabs(std::prev(v)->first - end.first) < std::llabs(v->first - end.first))
-            v = std::prev(v);
-        return end.second + v->second * (double(dt) * 1e-9);
-    };
-    const auto attitude_at = [&](std::int64_t t) -> Eigen::Quaterniond {
-        auto hi = att.lower_bound(t);
-        if (hi == att.end()) return att.rbegin()->second;
-        if (hi->first == t || hi == att.begin()) return hi->second;
-        auto lo = std::prev(hi);
-        const double u = double(t - lo->first) / double(hi->first - lo->first);
-        return lo->second.slerp(u, hi->second);
-    };
-
-    std::map<std::int64_t, int> times;
-    for (const auto& [t, p] : pos) times.emplace(t, 0);
-    for (const auto& [t, q] : att) times.emplace(t, 0);
-    std::vector<core::StampedPose> samples;
-    samples.reserve(times.size());
-    for (const auto& kv : times) {
-        const std::int64_t t = kv.first;
-        core::StampedPose sp;
-        sp.t = core::GpsTime(core::Nanos(t));
-        sp.pose.position = position_at(t);
-        sp.pose.attitude = attitude_at(t);
-        samples.push_back(sp);
-    }
-    st.poses = samples.size();
-    if (stats_out) *stats_out = st;
-    return core::Trajectory(std::move(samples), options.interpolation);
-}
-
 navpose::NavFrame parse_nav_origin(const std::string& spec) {
     std::vector<double> v;
     std::stringstream ss(spec);
@@ -343,8 +225,9 @@ std::string nav_log_summary(const NavLog& log) {
         "nav log '{}' ({}): {} bytes, {} {}, {} timed samples ({} without time); skipped: {} "
         "bad checksum, {} truncated, {} invalid fields, {} garbage bytes, {} unsupported",
         log.path, to_string(log.protocol), s.bytes, s.messages,
-        is_can(log.protocol) ? "frames" : "messages", log.samples.size(), s.untimed_samples,
-        d.bad_checksum, d.truncated, d.invalid_field, d.garbage_bytes, d.unsupported);
+        is_can(log.protocol) ? "frames" : "messages", s.samples - s.untimed_samples,
+        s.untimed_samples, d.bad_checksum, d.truncated, d.invalid_field, d.garbage_bytes,
+        d.unsupported);
     if (is_can(log.protocol))
         out +=
             fmt::format(", {} malformed candump lines", s.candump.rejected()) +

@@ -2,15 +2,16 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "mirage/can/can_bus.hpp"
 #include "mirage/navpose/nav_frame.hpp"
+#include "mirage/navpose/nav_mapper.hpp"
 #include "mirage/navpose/pose_buffer.hpp"
 #include "mirage/navproto/protocol.hpp"
 
@@ -24,7 +25,7 @@ class NavRecorder;
 
 // What NavInput does besides decoding and applying (all optional).
 struct NavInputOptions {
-    double undulation_m = 0;  // added to heights an INS reports above MSL
+    navpose::NavMapperConfig mapper;  // --undulation, --max-jump-m
     // NMEA: the UTC date assumed until an RMC/ZDA gives one. "host": today's (a live INS);
     // "stream": none, sentences before the stream's first date are dropped (a recorded log of
     // another day: a host-date guess would put its first sentences years ahead of the rest);
@@ -35,25 +36,27 @@ struct NavInputOptions {
 };
 
 struct NavInputCounters {
-    std::uint64_t samples = 0;          // NavSamples decoded
-    std::uint64_t applied = 0;          // samples that updated the pose buffer
-    std::uint64_t decode_rejected = 0;  // bad checksums, truncated frames, bad fields
-    std::uint64_t pose_rejected = 0;    // NaN, time backwards, position jumps
-    std::uint64_t no_time = 0;          // samples without a full time (e.g. NMEA before a date)
+    nav::DecodeCounters decode;  // the decoder's: checksums, truncated frames, bad fields
+    navpose::NavCounters track;  // the mapper's: what was applied and what the rules refused
     std::uint64_t transport_closed = 0;
     std::uint64_t error_frames = 0;  // CAN
 };
 
-// Reads one navigation source on its own thread: transport -> decoder -> scene frame -> pose
-// buffer. Tracks the offset between INS time and the host's CLOCK_MONOTONIC as the lower
-// envelope of (arrival − INS time) (nav-protocols.md §12.3 item 3), and records arrival times
-// for the INS-to-packet latency figure.
+// A message that updated the pose buffer, for the INS-to-packet latency: its tag and tracks.
+struct AppliedMessage {
+    navpose::MessageTag tag;
+    bool position = false, attitude = false;
+};
+
+// Reads one navigation source on its own thread: transport -> decoder -> navpose::NavMapper
+// (scene frame and rejection rules) -> pose buffer. Every decoded sample is numbered and
+// stamped with its arrival (MessageTag). Tracks the offset between INS time and the host's
+// CLOCK_MONOTONIC as the lower envelope of (arrival − INS time) (nav-protocols.md §12.3
+// item 3).
 class NavInput {
   public:
-    NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
-             double undulation_m);  // throws ConfigError / IoError when the transport won't open
-    // Same, with recording and NMEA date options. The recorders must outlive stop(); the
-    // caller closes them after stop().
+    // Throws ConfigError / IoError when the transport won't open. The recorders must outlive
+    // stop(); the caller closes them after stop().
     NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose::PoseBuffer& poses,
              const NavInputOptions& options);
     ~NavInput();
@@ -66,22 +69,22 @@ class NavInput {
     // host CLOCK_MONOTONIC ns − INS GPS ns (lower envelope); nullopt before the first sample.
     std::optional<std::int64_t> offset_ns() const;
     NavInputCounters counters() const;
-    nav::DecodeCounters decode_counters() const;
     // The local UDP port a udp:// transport bound (0 otherwise): `udp://127.0.0.1:0` picks one.
     std::uint16_t udp_port() const;
-    // Arrival times (host monotonic ns) of applied samples not yet taken, oldest first.
-    std::deque<std::int64_t> take_arrivals();
+    // Messages applied since the last call, oldest first. A message is listed here before its
+    // samples reach the pose buffer, so a window that used it finds it.
+    std::vector<AppliedMessage> take_applied();
     // The CAN bus's counters (nullopt for byte transports).
     std::optional<can::BusCounters> bus_counters() const;
 
   private:
     void run();
     void on_sample(const nav::NavSample& s, std::int64_t host_ns);
+    void track_offset(const nav::NavSample& s, std::int64_t host_ns);
 
     navproto::NavUri uri_;
-    navpose::NavFrame frame_;
     navpose::PoseBuffer& poses_;
-    double undulation_m_;
+    navpose::NavMapper mapper_;  // nav thread only
     PoseLog* pose_log_ = nullptr;
     NavRecorder* record_ = nullptr;
     std::unique_ptr<navproto::NavDecoder> decoder_;
@@ -92,14 +95,11 @@ class NavInput {
     std::thread thread_;
     mutable std::mutex mu_;
     NavInputCounters counters_;
-    nav::DecodeCounters decode_counters_;
     std::optional<std::int64_t> offset_;
     std::int64_t offset_block_min_ = 0;
     std::int64_t prev_block_min_ = 0;
-    double last_lat_ = 0, last_lon_ = 0;  // for the convergence of attitude-only messages
-    bool have_latlon_ = false;
     std::int64_t offset_block_start_ = 0;
-    std::deque<std::int64_t> arrivals_;
+    std::vector<AppliedMessage> applied_;
 };
 
 }  // namespace mirage::navio

@@ -9,6 +9,7 @@
 
 #include "mirage/nav/can_frame.hpp"
 #include "mirage/nav/nav_sample.hpp"
+#include "mirage/navpose/track_update.hpp"
 
 namespace mirage::navio {
 
@@ -54,14 +55,15 @@ class RecordFile {
 //   qw,qx,qy,qz  attitude rows: the scene-local attitude applied (body FLU -> local ENU)
 //   lat_deg,lon_deg,h_m,h_ref   position rows, as received: WGS84; h_ref "ellipsoid" or "msl"
 //                               (an MSL height had --undulation added before mapping)
-//   roll_deg,pitch_deg,heading_deg   attitude rows, as received: NED Euler, heading [0, 360)
+//   roll_deg,pitch_deg,heading_deg   attitude rows, as applied: NED Euler, heading [0, 360) (a
+//                                    heading-only message with the roll/pitch it was given)
 // Cells that do not apply to a row's kind are empty. Numbers are the shortest text that reads
 // back to the same double.
 class PoseLog {
   public:
     explicit PoseLog(const std::string& path);  // throws IoError
-    void position(const nav::NavSample& s, const Eigen::Vector3d& local);
-    void attitude(const nav::NavSample& s, const Eigen::Quaterniond& local);
+    void position(const nav::NavSample& s, const navpose::PositionUpdate& u);
+    void attitude(const navpose::AttitudeUpdate& u);
     bool close() { return file_.close(); }
     const std::string& error() const { return file_.error(); }
     std::uint64_t rows() const { return file_.units() > 0 ? file_.units() - 1 : 0; }

@@ -2,11 +2,12 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
-#include <vector>
 
 #include "mirage/nav/decode_counters.hpp"
 #include "mirage/nav/nav_sample.hpp"
+#include "mirage/nav/resync_buffer.hpp"
 #include "mirage/ncom/packet.hpp"
 
 namespace mirage::ncom {
@@ -59,10 +60,11 @@ class NcomDecoder {
     void handle_packet(std::span<const std::uint8_t, kPacketSize> bytes,
                        const nav::SampleFn& on_sample);
 
+    static constexpr std::uint64_t kNotInSync = std::numeric_limits<std::uint64_t>::max();
+
     DecoderOptions options_;
-    std::vector<std::uint8_t> buf_;
-    std::size_t pos_ = 0;
-    bool in_sync_ = false;
+    nav::ResyncBuffer buf_{kPacketSize};
+    std::uint64_t good_end_ = kNotInSync;  // stream offset just past the last good packet
     nav::DecodeCounters counters_;
     NcomCounters ncom_;
     bool have_minutes_ = false;

@@ -8,7 +8,9 @@
 
 #include "mirage/nav/decode_counters.hpp"
 #include "mirage/nav/nav_sample.hpp"
+#include "mirage/nav/resync_buffer.hpp"
 #include "mirage/nmea/fields.hpp"
+#include "mirage/nmea/sentence.hpp"
 
 namespace mirage::nmea {
 
@@ -59,9 +61,7 @@ class NmeaDecoder {
     void set_date(const Date& d, const std::optional<UtcTime>& t);
     void emit(nav::NavSample& s, const nav::SampleFn& on_sample);
 
-    enum class State : std::uint8_t { Hunt, InSentence, Discard };
-    State state_ = State::Hunt;
-    std::string line_;
+    nav::ResyncBuffer buf_{kMaxSentenceBytes};
     std::optional<std::int64_t> date_days_;  // kept UTC date (days since 1970-01-01)
     bool date_from_stream_ = false;
     bool have_tod_ = false;

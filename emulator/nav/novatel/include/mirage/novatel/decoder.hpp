@@ -3,10 +3,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <vector>
 
 #include "mirage/nav/decode_counters.hpp"
 #include "mirage/nav/nav_sample.hpp"
+#include "mirage/nav/resync_buffer.hpp"
 
 namespace mirage::novatel {
 
@@ -23,6 +23,7 @@ namespace mirage::novatel {
 // Never throws, never reads outside its buffer.
 class NovatelDecoder {
   public:
+    NovatelDecoder();
     void feed(std::span<const std::uint8_t> bytes, const nav::SampleFn& on_sample);
     // End of stream: a frame still waiting for bytes counts truncated, and the bytes after its
     // sync are scanned without waiting (a false sync near the end must not hide real frames).
@@ -34,12 +35,12 @@ class NovatelDecoder {
   private:
     // Decodes what is buffered; `flushing`: no more bytes will come.
     void process(bool flushing, const nav::SampleFn& on_sample);
+    nav::FrameLength frame_length(std::span<const std::uint8_t> rest, bool flushing);
     void handle_frame(std::span<const std::uint8_t> frame, bool long_header,
                       const nav::SampleFn& on_sample);
     void emit(const nav::NavSample& s, const nav::SampleFn& on_sample);
 
-    std::vector<std::uint8_t> buf_;
-    std::size_t pos_ = 0;
+    nav::ResyncBuffer buf_;
     nav::DecodeCounters counters_;
 };
 

@@ -4,30 +4,20 @@
 #include <deque>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 #include "mirage/core/pose.hpp"
 #include "mirage/core/time.hpp"
 #include "mirage/core/trajectory.hpp"
+#include "mirage/navpose/track_update.hpp"
 
 namespace mirage::navpose {
 
 struct PoseBufferConfig {
     core::Nanos max_extrapolation{std::chrono::milliseconds(50)};
-    // A position further than this from the one predicted from the previous samples (constant
-    // velocity) is a jump: rejected, never applied.
-    double max_jump_m = 20.0;
     // A sample older than the newest by more than this is dropped (history kept for
     // interpolation).
     core::Nanos history{std::chrono::seconds(2)};
-};
-
-enum class AddStatus : std::uint8_t {
-    Accepted,
-    NotFinite,      // NaN / Inf in position or attitude
-    Duplicate,      // same time as the newest sample of its track (another log of the same
-                    // epoch): ignored, not an error
-    TimeBackwards,  // older than the newest sample of its track
-    PositionJump,   // beyond max_jump_m of the prediction
 };
 
 enum class PoseStatus : std::uint8_t {
@@ -37,26 +27,35 @@ enum class PoseStatus : std::uint8_t {
     Empty,         // nothing received yet
 };
 
-struct PoseBufferCounters {
-    std::uint64_t accepted = 0;
-    std::uint64_t not_finite = 0;
-    std::uint64_t duplicates = 0;
-    std::uint64_t time_backwards = 0;
-    std::uint64_t position_jumps = 0;
+// A message whose sample a pose was computed from: interpolation uses both bracketing samples,
+// extrapolation the newest.
+struct UsedMessage {
+    MessageTag tag;
+    Track track = Track::Position;
+    friend bool operator==(const UsedMessage& a, const UsedMessage& b) {
+        return a.tag.seq == b.tag.seq && a.track == b.track;
+    }
+};
+
+// Poses over a window for the renderer, and the messages they came from.
+struct PoseWindow {
+    core::Trajectory trajectory;
+    std::vector<UsedMessage> used;  // each message once per track, in no particular order
 };
 
 // Platform poses as an INS reports them, queried at each firing time. Position and attitude are
 // separate tracks with their own timestamps, because some protocols send them in different
 // messages at different rates (NMEA: GGA at 10 Hz, PASHR at 25 Hz). Positions interpolate
 // linearly and extrapolate with the last velocity (from the samples, or as given); attitudes
-// slerp and hold beyond the newest. Thread-safe: one writer (the nav thread), many readers.
+// slerp and continue the last rotation rate beyond the newest. Stores the updates NavMapper
+// accepted (it applies the rejection rules); an update not newer than its track's newest is
+// ignored. Thread-safe: one writer (the nav thread), many readers.
 class PoseBuffer {
   public:
     explicit PoseBuffer(PoseBufferConfig config = {});
 
-    AddStatus add_position(core::GpsTime t, const Eigen::Vector3d& local,
-                           const std::optional<Eigen::Vector3d>& velocity = std::nullopt);
-    AddStatus add_attitude(core::GpsTime t, const Eigen::Quaterniond& attitude);
+    void add(const PositionUpdate& u);
+    void add(const AttitudeUpdate& u);
 
     struct Query {
         PoseStatus status = PoseStatus::Empty;
@@ -68,32 +67,31 @@ class PoseBuffer {
     // Poses every `step` over [t0, t1] (both ends included) as a Trajectory for the renderer,
     // or nullopt if any of them is stale. The renderer's per-pulse interpolation between these
     // knots then matches at() within the step's curvature.
-    std::optional<core::Trajectory> window(core::GpsTime t0, core::GpsTime t1,
-                                           core::Nanos step) const;
+    std::optional<PoseWindow> window(core::GpsTime t0, core::GpsTime t1, core::Nanos step) const;
 
     // Newest time present in both tracks (nullopt before the first full pose).
     std::optional<core::GpsTime> newest() const;
-    PoseBufferCounters counters() const;
 
   private:
     struct PosSample {
         core::GpsTime t;
         Eigen::Vector3d p;
         std::optional<Eigen::Vector3d> v;
+        MessageTag tag;
     };
     struct AttSample {
         core::GpsTime t;
         Eigen::Quaterniond q;
+        MessageTag tag;
     };
-    Query at_locked(core::GpsTime t) const;
+    // The pose at t; the messages it used are appended to `used` when given.
+    Query at_locked(core::GpsTime t, std::vector<UsedMessage>* used) const;
     Eigen::Vector3d velocity_at_end() const;
 
     PoseBufferConfig cfg_;
     mutable std::mutex mu_;
     std::deque<PosSample> pos_;
     std::deque<AttSample> att_;
-    PoseBufferCounters counters_;
-    int consecutive_jumps_ = 0;
 };
 
 }  // namespace mirage::navpose

@@ -9,6 +9,7 @@
 #include "mirage/nav/nav_sample.hpp"
 #include "mirage/navcan/candump.hpp"
 #include "mirage/navpose/nav_frame.hpp"
+#include "mirage/navpose/nav_mapper.hpp"
 #include "mirage/navproto/protocol.hpp"
 
 namespace mirage::navproto {
@@ -48,7 +49,7 @@ struct NavLog {
     std::vector<std::uint8_t> bytes;            // byte protocols: the whole file
     std::vector<NavLogMessage> messages;        // byte protocols: in file order
     std::vector<navcan::CandumpRecord> frames;  // CAN protocols: valid lines, in file order
-    std::vector<nav::NavSample> samples;        // every sample with kTime, in decode order
+    std::vector<nav::NavSample> samples;        // every sample decoded, in decode order
     NavLogStats stats;
 };
 
@@ -58,22 +59,31 @@ NavLog read_nav_log(const std::string& path, NavProtocol protocol,
                     const NavLogOptions& options = {});
 
 struct NavTrackOptions {
-    double undulation_m = 0;  // added to heights the INS gives above MSL
+    navpose::NavMapperConfig mapper;  // undulation, --max-jump-m: the rules live input uses
     core::Interpolation interpolation = core::Interpolation::Linear;
 };
 
+// The log's samples through the one mapper and its rejection rules (navpose::NavMapper), as
+// `mirage live` would have applied them: the accepted track updates, in log order, tagged with
+// the sample's index in NavLog::samples, and the mapper's counters.
+struct NavTracks {
+    std::vector<navpose::PositionUpdate> positions;
+    std::vector<navpose::AttitudeUpdate> attitudes;
+    navpose::NavCounters counters;
+};
+NavTracks nav_log_tracks(const NavLog& log, const navpose::NavFrame& frame,
+                         const navpose::NavMapperConfig& config = {});
+
 struct NavTrackStats {
     std::uint64_t positions = 0, attitudes = 0, poses = 0;
-    std::uint64_t non_finite = 0;  // samples dropped for NaN/Inf fields
-    bool heading_only = false;     // no roll/pitch in the log: level attitude from headings
+    navpose::NavCounters counters;  // what the rules refused, named as live names them
 };
 
-// Position and attitude tracks of the log's samples, mapped into the scene frame by `frame` and
-// merged into one trajectory sampled on the union of their times (time = the INS GPS time):
-// positions linear between fixes (before the first / after the last fix: extrapolated up to
-// 1 s with the nearest reported velocity, else held), attitudes slerped between attitude
-// samples (held outside). Heading-only logs (HDT, PTNL,AVR) give a level attitude. Throws
-// ConfigError "nav log '<path>': no usable pose (...)" without positions or attitudes.
+// The accepted tracks merged into one trajectory sampled on the union of their times (time =
+// the INS GPS time): positions linear between fixes (before the first / after the last fix:
+// extrapolated up to 1 s with that fix's reported velocity, else held), attitudes slerped
+// between attitude samples (held outside). Throws ConfigError "nav log '<path>': no usable
+// pose (...)" without positions or attitudes.
 core::Trajectory nav_log_trajectory(const NavLog& log, const navpose::NavFrame& frame,
                                     const NavTrackOptions& options = {},
                                     NavTrackStats* stats = nullptr);
