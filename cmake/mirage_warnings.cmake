@@ -1,3 +1,18 @@
+# GCC 12 reports a false maybe-uninitialized inside its own AVX-512 intrinsics header whenever
+# Eigen's AVX-512 code is inlined (_mm512_undefined_* self-initialise; GCC bug 105593, fixed in
+# GCC 13). Where -march=native enables AVX-512 under GCC < 13 that warning is off; everywhere
+# else it stays an error.
+set(MIRAGE_GCC_AVX512_FALSE_WARNING OFF)
+if(MIRAGE_NATIVE AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU"
+   AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  include(CheckCXXSourceCompiles)
+  set(CMAKE_REQUIRED_FLAGS -march=native)
+  check_cxx_source_compiles("#ifndef __AVX512F__\n#error no AVX-512\n#endif\nint main() {}"
+                            MIRAGE_NATIVE_HAS_AVX512)
+  unset(CMAKE_REQUIRED_FLAGS)
+  set(MIRAGE_GCC_AVX512_FALSE_WARNING ${MIRAGE_NATIVE_HAS_AVX512})
+endif()
+
 # Warnings and sanitizers for Mirage's own targets only (never global flags).
 function(mirage_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wconversion -Wimplicit-fallthrough)
@@ -6,6 +21,9 @@ function(mirage_set_warnings target)
   target_compile_options(${target} PRIVATE -fno-math-errno)
   if(MIRAGE_NATIVE)
     target_compile_options(${target} PRIVATE -march=native)
+  endif()
+  if(MIRAGE_GCC_AVX512_FALSE_WARNING)
+    target_compile_options(${target} PRIVATE -Wno-maybe-uninitialized)
   endif()
   if(MIRAGE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
