@@ -53,6 +53,11 @@ void register_record(CLI::App& app) {
         fmt::print("record: {} datagrams received, {} written to {} ({} bytes){}\n", total,
                    r.written, cfg.out, r.file_bytes,
                    r.truncated ? fmt::format(", {} truncated", r.truncated) : "");
+        if (r.out_of_order > 0)
+            fmt::print(
+                "record: {} datagrams were read over 50 ms after their receive time and "
+                "follow later ones in the file\n",
+                r.out_of_order);
         if (!r.error.empty()) {
             fmt::print(stderr, "record: ERROR {} (file cut to its last whole record)\n", r.error);
             throw CLI::RuntimeError(1);

@@ -15,6 +15,7 @@
 #include "mirage/core/error.hpp"
 #include "mirage/hostclock/host_clock.hpp"
 #include "mirage/pcap/writer.hpp"
+#include "mirage/replay/time_order.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/udp_receiver.hpp"
 
@@ -22,6 +23,8 @@ namespace mirage::replay {
 namespace {
 
 constexpr std::size_t kBatch = 32;
+// Records wait this long for a datagram stamped earlier on another socket (TimeOrder).
+constexpr std::int64_t kOrderHoldNs = 50'000'000;
 constexpr std::size_t kMaxDatagram = 65535;
 
 std::array<std::uint8_t, 4> ip_bytes(const in_addr& a) {
@@ -121,6 +124,11 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
             res.error += fmt::format("; {}", e.what());
         }
     };
+    TimeOrder order(kOrderHoldNs);
+    auto write = [&](const TimeOrder::Record& r) {
+        if (writer->write(r.time_ns, r.src, r.dst, r.payload)) ++res.written;
+        return true;
+    };
     bool failed = false;
     while (!stop.load(std::memory_order_relaxed)) {
         const std::int64_t now = hostclock::monotonic_ns();
@@ -144,6 +152,7 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
             last_status = now;
             on_status(t);
         }
+        order.release(hostclock::realtime_ns(), false, write);
         if (::poll(pfds.data(), pfds.size(), 50) <= 0) continue;
         for (std::size_t s = 0; s < fds_.size(); ++s) {
             if ((pfds[s].revents & POLLIN) == 0) continue;
@@ -180,14 +189,16 @@ RecordResult Recorder::run(const std::atomic<bool>& stop,
                 const auto& f = from[static_cast<std::size_t>(k)];
                 const pcap::Endpoint src{ip_bytes(f.sin_addr), ntohs(f.sin_port)};
                 const pcap::Endpoint dsp{ip_bytes(dst), ports_[s]};
-                if (writer->write(time_ns, src, dsp,
-                                  {bufs[static_cast<std::size_t>(k)].data(), len}))
-                    ++res.written;
+                const auto* b = bufs[static_cast<std::size_t>(k)].data();
+                order.add({time_ns, src, dsp, std::vector<std::uint8_t>(b, b + len)});
                 ++t.packets[s];
+                received_.fetch_add(1, std::memory_order_relaxed);
                 t.bytes += len;
             }
         }
     }
+    order.release(0, true, write);
+    res.out_of_order = order.out_of_order();
     if (!failed) {
         try {
             writer->close();

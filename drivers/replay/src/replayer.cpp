@@ -145,14 +145,16 @@ ReplaySummary replay(const ReplayConfig& c, const std::atomic<bool>* stop,
                 ++s.out_of_range;
                 break;  // the rest of the file is later still (captures are in time order)
             }
-            if (rel < c.from_ns) {
+            // A datagram stamped before the first (a capture slightly out of time order) is due
+            // at once, not dropped, unless --from asks for a later start.
+            if (c.from_ns > 0 && rel < c.from_ns) {
                 ++s.out_of_range;
                 continue;
             }
             const auto it = c.port_map.find(d.dst.port);
             Packet p{pass_offset + rel - c.from_ns,
                      it == c.port_map.end() ? d.dst.port : it->second, std::move(d.payload)};
-            last_rel = rel - c.from_ns;
+            last_rel = std::max(last_rel, rel - c.from_ns);
             ++used;
             ready.clear();
             impairer.push(std::move(p), ready);

@@ -29,6 +29,9 @@ struct RecordResult {
     RecordStatus totals;
     std::uint64_t written = 0;    // datagrams in the file
     std::uint64_t truncated = 0;  // longer than the receive buffer (cut, MSG_TRUNC)
+    // Records are written in receive-time order across the ports; these few were read so late
+    // (over 50 ms after their stamp) that a later one had already been written.
+    std::uint64_t out_of_order = 0;
     std::uint64_t file_bytes = 0;
     std::string error;  // write error (the file was cut to its last whole record)
 };
@@ -48,11 +51,14 @@ class Recorder {
     Recorder& operator=(const Recorder&) = delete;
 
     const std::vector<std::uint16_t>& ports() const { return ports_; }  // as bound
+    // Datagrams received so far (any thread may ask while run() goes on).
+    std::uint64_t received() const { return received_.load(std::memory_order_relaxed); }
     // Records until `stop`, the duration or a write error; closes the file. Never throws.
     RecordResult run(const std::atomic<bool>& stop,
                      const std::function<void(const RecordStatus&)>& on_status = {});
 
   private:
+    std::atomic<std::uint64_t> received_{0};
     RecordConfig config_;
     std::vector<int> fds_;
     std::vector<std::uint16_t> ports_;
