@@ -76,6 +76,20 @@ struct RenderStats {
     double cpu_trace_s = 0;   // Renderer::intersect
     double cpu_shade_s = 0;   // physics, noise, point records
     double cpu_output_s = 0;  // the sink: encoding (on the workers when it can) and writing
+
+    // Adds the counts and CPU times of `s` (not its seconds).
+    void add(const RenderStats& s) {
+        cpu_rays_s += s.cpu_rays_s;
+        cpu_trace_s += s.cpu_trace_s;
+        cpu_shade_s += s.cpu_shade_s;
+        cpu_output_s += s.cpu_output_s;
+        pulses += s.pulses;
+        points += s.points;
+        misses += s.misses;
+        voids += s.voids;
+        too_close += s.too_close;
+        rays += s.rays;
+    }
 };
 
 // Progress: pulses done so far (called from the writer thread, rate-limited by the caller).
