@@ -48,6 +48,7 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
     for (int w = 0; w < threads; ++w) {
         pool.emplace_back([&, w] {
             std::vector<std::vector<render::Ray>> batch;
+            render::TraceBatches batches(job.setup());
             std::vector<render::Hit> hits;
             for (std::uint64_t round = 0; round < rounds; ++round) {
                 batch.clear();
@@ -59,8 +60,11 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
                     const std::uint64_t first = c * chunk;
                     const auto n =
                         static_cast<std::size_t>(std::min<std::uint64_t>(chunk, pulses - first));
-                    batch.push_back(render::pipeline_rays(job.sensor, job.trajectory, job.mount,
-                                                          job.options.start, first, n));
+                    std::vector<render::Ray> rays;
+                    batches.for_each(first, n, [&](std::span<const render::Ray> r) {
+                        rays.insert(rays.end(), r.begin(), r.end());
+                    });
+                    batch.push_back(std::move(rays));
                 }
                 sync.arrive_and_wait();
                 if (w == 0) round_start = Clock::now();
@@ -83,8 +87,7 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
 render::RenderStats run_pipeline_to_null(Job& job, const std::string& null_path) {
     las::LasWriter writer(null_path, job.scene->georef);
     las::LasSink sink(writer);
-    const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
-                                      job.mount, job.env, job.options, sink);
+    const auto stats = render::render(job.setup(), sink);
     writer.close();
     return stats;
 }
@@ -187,7 +190,7 @@ void register_bench(CLI::App& app) {
                 in.duration = sim;
                 in.sub_rays = s;
                 Job job = load_job_with_scene(in, town, scene_s, false);
-                job.renderer = std::move(shared.renderer);
+                job.renderer = shared.renderer;
                 const std::uint64_t pulses = job.sensor.scan->pulse_count(job.options.duration);
                 ThroughputRow row;
                 row.sensor = c.sensor;
@@ -227,7 +230,6 @@ void register_bench(CLI::App& app) {
                     c.sensor, s, row.pipeline_pulses_per_s / 1e6, row.pipeline_points_per_s / 1e6,
                     row.ceiling_pulses_per_s / 1e6, ceiling_rays / 1e6, row.ratio(), row.ratio_min,
                     row.ratio_max, row.repeats, row.x_real_time());
-                shared.renderer = std::move(job.renderer);
             }
         }
 
@@ -275,9 +277,7 @@ void register_bench(CLI::App& app) {
                 in.quality = quality;
                 Job job = load_job_with_scene(in, town, scene_s, true);
                 KeepSink keep;
-                const auto st =
-                    render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount,
-                                   job.env, job.options, keep);
+                const auto st = render::render(job.setup(), keep);
                 secs = st.seconds;
                 if (bvh) {
                     bvh->build_seconds = job.renderer->build_stats().build_seconds;

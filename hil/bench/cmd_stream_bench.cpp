@@ -412,6 +412,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         in.duration = seconds;
         in.threads = render_threads;
         r->job = load_job_with_scene(in, scene, seconds_scene, runs.empty());
+        if (!runs.empty()) r->job.renderer = runs.front()->job.renderer;  // one BVH for all
         r->job.options.chunk_pulses = chunk_pulses;
         const wire::WireOptions wo = wire_options(c);
         wire::prepare_sensor(r->job.sensor, wo, 0);
@@ -441,7 +442,6 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         r->wire_late.reserve(expect + 4096);
         runs.push_back(std::move(r));
     }
-    const render::Renderer& renderer = *runs.front()->job.renderer;
     const std::int64_t rt_minus_mono = hostclock::realtime_minus_monotonic();
 
     std::atomic<bool> done{false};
@@ -454,13 +454,11 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
     const double cpu0 = cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     for (auto& r : runs)
-        senders.emplace_back([&r, &renderer] {
+        senders.emplace_back([&r] {
             pthread_setname_np(pthread_self(), "mirage-writer");
             try {
                 output::PacketizerSink sink(*r->wire.packetizer);
-                const Job& j = r->job;
-                r->stats = render::render(*j.scene, renderer, j.sensor, j.trajectory, j.mount,
-                                          j.env, j.options, sink);
+                r->stats = render::render(r->job.setup(), sink);
                 r->wire.packetizer->finish();
                 r->totals = r->out->finish();
             } catch (const std::exception& e) {

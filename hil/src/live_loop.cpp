@@ -21,8 +21,7 @@ LiveTotals run_live(Job& job, wire::Packetizer& packetizer, output::PacketOutput
     LiveTotals tot;
     const core::GpsTime start = job.options.start;
     const auto& scan = *job.sensor.scan;
-    render::WindowRenderer wr(*job.scene, *job.renderer, job.sensor, job.mount, job.env,
-                              job.options);
+    render::WindowRenderer wr(job.setup());
     std::vector<core::PointRecord> pts;
     render::RenderStats rstats;
     const std::int64_t t_begin = hostclock::monotonic_ns();

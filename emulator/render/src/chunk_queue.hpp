@@ -10,6 +10,7 @@
 #include <mutex>
 #include <vector>
 
+#include "mirage/render/point_sink.hpp"
 #include "shading.hpp"
 
 namespace mirage::render {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "basis.hpp"
-#include "mirage/render/pipeline.hpp"
+#include "mirage/render/trace_batches.hpp"
 
 namespace mirage::render {
 namespace {
@@ -201,16 +201,19 @@ void RayBatchBuilder::add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray
     }
 }
 
-std::vector<Ray> pipeline_rays(const sensor::SensorModel& sensor,
-                               const core::Trajectory& trajectory, const core::Mount& mount,
-                               core::GpsTime start, std::uint64_t first, std::size_t n) {
-    const RayBatchBuilder builder(sensor, trajectory, mount, start);
+struct TraceBatches::Impl {
+    explicit Impl(const Setup& s) : builder(s.sensor, s.trajectory, s.mount, s.options.start) {}
+    RayBatchBuilder builder;
     RayBatch g;
-    std::vector<Ray> rays;
-    builder.for_each_batch(first, n, g, [&](const RayBatch& b) {
-        rays.insert(rays.end(), b.rays.begin(), b.rays.end());
-    });
-    return rays;
+};
+
+TraceBatches::TraceBatches(const Setup& setup) : impl_(std::make_unique<Impl>(setup)) {}
+
+TraceBatches::~TraceBatches() = default;
+
+void TraceBatches::for_each(std::uint64_t first, std::size_t n,
+                            const std::function<void(std::span<const Ray>)>& fn) {
+    impl_->builder.for_each_batch(first, n, impl_->g, [&](const RayBatch& b) { fn(b.rays); });
 }
 
 }  // namespace mirage::render

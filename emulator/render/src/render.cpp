@@ -24,8 +24,7 @@ struct Run {
     const PulseShader& shader;
     PointSink& sink;
     bool encodes;
-    std::uint64_t total;  // pulses
-    std::size_t chunk;    // pulses per chunk
+    ChunkPlan plan;
     ChunkQueue& queue;
 };
 
@@ -39,10 +38,8 @@ struct WorkerBuffers {
 // Chunk c, traced in batches that keep rays and hits in cache; the chunk (the unit of hand-over
 // between threads) spans several, so threads wake less often.
 void render_chunk(const Run& run, std::uint64_t c, WorkerBuffers& w, ChunkResult& result) {
-    const std::uint64_t first = c * run.chunk;
-    const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(run.chunk, run.total - first));
     StageClock clock;
-    run.builder.for_each_batch(first, n, w.g, [&](const RayBatch& g) {
+    run.builder.for_each_batch(run.plan.first(c), run.plan.size(c), w.g, [&](const RayBatch& g) {
         w.hits.resize(g.rays.size());
         clock.lap(StageClock::kRays);
         run.renderer.intersect(g.rays, w.hits);
@@ -100,8 +97,8 @@ RenderStats write_in_order(const Run& run, const ProgressFn& progress,
         std::unique_ptr<ChunkResult> ready = run.queue.next();
         if (!ready) break;
         try {
-            write_chunk(run, *ready, std::min<std::uint64_t>(written * run.chunk, run.total),
-                        stats);
+            write_chunk(run, *ready,
+                        std::min<std::uint64_t>(written * run.plan.chunk, run.plan.pulses), stats);
         } catch (...) {
             run.queue.fail(std::current_exception());
             break;
@@ -130,29 +127,33 @@ std::size_t chunks_for_lead(const sensor::SensorModel& sensor, std::size_t reque
     return static_cast<std::size_t>(std::max<std::uint64_t>(1, (pulses + c - 1) / c));
 }
 
-RenderStats render(const scene::Scene& scene, const Renderer& renderer,
-                   const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
-                   const core::Mount& mount, const physics::Environment& env,
-                   const RenderOptions& opt, PointSink& sink, const ProgressFn& progress,
+ChunkPlan chunk_plan(const sensor::SensorModel& sensor, const RenderOptions& options) {
+    ChunkPlan plan;
+    plan.pulses = sensor.scan->pulse_count(options.duration);
+    plan.chunk = chunk_pulses(sensor, options.chunk_pulses);
+    plan.threads = options.threads > 0
+                       ? options.threads
+                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    return plan;
+}
+
+RenderStats render(const Setup& setup, PointSink& sink, const ProgressFn& progress,
                    const std::atomic<bool>* stop) {
     const auto t0 = std::chrono::steady_clock::now();
-    const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
-    const std::size_t chunk = chunk_pulses(sensor, opt.chunk_pulses);
-    const std::uint64_t chunks = (total + chunk - 1) / chunk;
-    const int threads = opt.threads > 0
-                            ? opt.threads
-                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const RayBatchBuilder builder(sensor, trajectory, mount, opt.start);
-    const PulseShader shader(scene, sensor, env, opt);
-    const std::uint64_t window =
-        opt.window_chunks > 0 ? opt.window_chunks : static_cast<std::uint64_t>(threads) * 2 + 2;
-    ChunkQueue queue(chunks, window, stop);
-    const Run run{renderer, builder, shader, sink, sink.new_encoded() != nullptr,
-                  total,    chunk,   queue};
+    const RenderOptions& opt = setup.options;
+    const ChunkPlan plan = chunk_plan(setup.sensor, opt);
+    const RayBatchBuilder builder(setup.sensor, setup.trajectory, setup.mount, opt.start);
+    const PulseShader shader(setup);
+    const std::uint64_t window = opt.window_chunks > 0
+                                     ? opt.window_chunks
+                                     : static_cast<std::uint64_t>(plan.threads) * 2 + 2;
+    ChunkQueue queue(plan.chunks(), window, stop);
+    const Run run{setup.renderer, builder, shader, sink, sink.new_encoded() != nullptr,
+                  plan,           queue};
 
     std::vector<std::thread> pool;
-    pool.reserve(static_cast<std::size_t>(threads));
-    for (int i = 0; i < threads; ++i) pool.emplace_back(work, std::cref(run));
+    pool.reserve(static_cast<std::size_t>(plan.threads));
+    for (int i = 0; i < plan.threads; ++i) pool.emplace_back(work, std::cref(run));
     RenderStats stats = write_in_order(run, progress, t0);
     queue.close();
     for (auto& t : pool) t.join();

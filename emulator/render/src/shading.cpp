@@ -85,31 +85,30 @@ void jitter_directions(double* __restrict dx, double* __restrict dy, double* __r
 
 }  // namespace
 
-PulseShader::PulseShader(const scene::Scene& scene, const sensor::SensorModel& sensor,
-                         const physics::Environment& env, const RenderOptions& opt)
-    : scene_(scene),
-      sensor_(sensor),
-      env_(env),
-      opt_(opt),
-      radiometry_(sensor.beam, sensor.receiver, env),
-      sun_up_(env.sun.up()),
-      to_sun_(env.sun.to_sun_enu()),
+PulseShader::PulseShader(const Setup& setup)
+    : scene_(setup.scene),
+      sensor_(setup.sensor),
+      env_(setup.env),
+      opt_(setup.options),
+      radiometry_(sensor_.beam, sensor_.receiver, env_),
+      sun_up_(env_.sun.up()),
+      to_sun_(env_.sun.to_sun_enu()),
       // Sub-ray hits closer than the pulse's range resolution merge into one return.
-      separation_m_(0.5 * 299'792'458.0 * sensor.beam.pulse_width_s),
+      separation_m_(0.5 * 299'792'458.0 * sensor_.beam.pulse_width_s),
       // Angle between neighbouring sub-rays (the footprint's ring spacing, beam radius / k).
-      cell_rad_(sensor.beam.sub_rays > 1
-                    ? 0.5 * sensor.beam.divergence_rad /
-                          std::round((std::sqrt(12.0 * sensor.beam.sub_rays - 3.0) - 3.0) / 6.0)
+      cell_rad_(sensor_.beam.sub_rays > 1
+                    ? 0.5 * sensor_.beam.divergence_rad /
+                          std::round((std::sqrt(12.0 * sensor_.beam.sub_rays - 3.0) - 3.0) / 6.0)
                     : 0.0),
       // Received power of unit weight, range, BRDF, incidence and transmission: every sub-ray's
       // power is this times w·brdf·cos θ·τ²/R² (eqs. 2–4 with the constants folded).
       power_k_(radiometry_.laser_power_w(1.0, 1.0, 1.0, 1.0, 1.0)),
-      inv_resolution_(sensor.receiver.range_resolution_m > 0.0
-                          ? 1.0 / sensor.receiver.range_resolution_m
+      inv_resolution_(sensor_.receiver.range_resolution_m > 0.0
+                          ? 1.0 / sensor_.receiver.range_resolution_m
                           : 0.0) {
     // Per material, the whole BRDF when it does not depend on incidence (diffuse and retro); −1
     // marks a specular lobe, evaluated by monostatic_brdf per hit.
-    for (const scene::Material& m : scene.materials) {
+    for (const scene::Material& m : scene_.materials) {
         const double diffuse = m.reflectance / std::numbers::pi;
         const double f = m.retroreflective ? diffuse + m.retro_gain : diffuse;
         brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);

@@ -12,7 +12,8 @@
 
 #include "mirage/core/point.hpp"
 #include "mirage/physics/radiometry.hpp"
-#include "mirage/render/pipeline.hpp"
+#include "mirage/render/render_stats.hpp"
+#include "mirage/render/setup.hpp"
 #include "ray_batch.hpp"
 
 namespace mirage::render {
@@ -69,12 +70,11 @@ inline double incidence(const Ray& ray, const Hit& hit) {
     return std::min(1.0, std::abs(double(ray.dx * hit.nx + ray.dy * hit.ny + ray.dz * hit.nz)));
 }
 
-// Turns a traced batch into points. One shader serves all threads (shade() is const); the
-// scene, sensor, environment and options must outlive it.
+// Turns a traced batch into points. One shader serves all threads (shade() is const); it refers
+// to the setup's scene, sensor, environment and options, so the setup must outlive it.
 class PulseShader {
   public:
-    PulseShader(const scene::Scene& scene, const sensor::SensorModel& sensor,
-                const physics::Environment& env, const RenderOptions& opt);
+    explicit PulseShader(const Setup& setup);
 
     void shade(const RayBatch& g, const std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,

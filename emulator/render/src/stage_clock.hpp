@@ -4,7 +4,7 @@
 #include <chrono>
 #include <ctime>
 
-#include "mirage/render/pipeline.hpp"
+#include "mirage/render/render_stats.hpp"
 
 namespace mirage::render {
 

@@ -100,7 +100,7 @@ Returns render_with(const scene::Scene& scene, const render::Renderer& r,
     o.threads = 2;
     o.duration = core::Nanos(static_cast<std::int64_t>(dirs.size()) * 1000);
     VectorSink sink;
-    render::render(scene, r, s, core::Trajectory::fixed({}), {}, {}, o, sink);
+    render::render({scene, r, s, core::Trajectory::fixed({}), {}, {}, o}, sink);
     Returns out;
     for (const auto& p : sink.points)
         if (p.return_number == 1) out[p.pulse] = {double(p.range_m), int(p.intensity)};

@@ -68,7 +68,7 @@ std::string render_file(const TempDir& tmp, const std::string& name, int threads
     const auto path = tmp.file(name);
     las::LasWriter w(path, s.georef);
     LasOut sink(w, encode_on_workers);
-    render::render(s, r, sensor, core::Trajectory(samples), {}, env, opt, sink);
+    render::render({s, r, sensor, core::Trajectory(samples), {}, env, opt}, sink);
     w.close();
     std::ifstream f(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(f), {}};
@@ -143,8 +143,8 @@ TEST(PipelineProgress, pulses_done_increases_to_the_total_and_covers_every_point
         }
         void pulses_done(std::uint64_t next) override { done.push_back(next); }
     } sink;
-    const auto stats = render::render(s, r, sensor, core::Trajectory(samples), {},
-                                      physics::Environment{}, opt, sink);
+    const auto stats = render::render(
+        {s, r, sensor, core::Trajectory(samples), {}, physics::Environment{}, opt}, sink);
     const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
     ASSERT_FALSE(sink.done.empty());
     EXPECT_EQ(sink.done.back(), total);
@@ -185,11 +185,11 @@ TEST(WindowRenderer, windows_of_any_size_give_render_s_points) {
             all.insert(all.end(), p.begin(), p.end());
         }
     } sink;
-    render::render(s, r, sensor, traj, {}, physics::Environment{}, opt, sink);
+    render::render({s, r, sensor, traj, {}, physics::Environment{}, opt}, sink);
     const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
     ASSERT_GT(sink.all.size(), 2000u);
     for (std::size_t window : {384u, 1000u, 5000u}) {
-        render::WindowRenderer wr(s, r, sensor, {}, physics::Environment{}, opt);
+        render::WindowRenderer wr({s, r, sensor, traj, {}, physics::Environment{}, opt});
         std::vector<core::PointRecord> pts;
         render::RenderStats st;
         for (std::uint64_t first = 0; first < total; first += window)
