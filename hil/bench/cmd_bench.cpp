@@ -87,9 +87,7 @@ double ceiling_rays_per_s(const Job& job, int threads, std::uint64_t pulses,
 render::RenderStats run_pipeline_to_null(Job& job, const std::string& null_path) {
     las::LasWriter writer(null_path, job.scene->georef);
     las::LasSink sink(writer);
-    const auto stats = render::render(job.setup(), sink);
-    writer.close();
-    return stats;
+    return render::render(job.setup(), sink);
 }
 
 // Per-pulse first-return range and intensity, for error against a reference.

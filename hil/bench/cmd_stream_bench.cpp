@@ -459,7 +459,6 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
             try {
                 output::PacketizerSink sink(*r->wire.packetizer);
                 r->stats = render::render(r->job.setup(), sink);
-                r->wire.packetizer->finish();
                 r->totals = r->out->finish();
             } catch (const std::exception& e) {
                 r->error = e.what();

@@ -100,7 +100,6 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     const auto stats =
         render::render(job.setup(), sink, [&](const render::RenderStats& s) { bar.update(s); });
     bar.finish(stats);
-    writer.close();
     print_summary(stdout, "demo", job, stats);
 
     const auto top_h = dir / fmt::format("demo_{}_height.png", run.name);

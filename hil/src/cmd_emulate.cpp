@@ -151,7 +151,6 @@ void register_emulate(CLI::App& app) {
         const auto& stop = install_stop_signal();
         output::PacketizerSink sink(*w.packetizer);
         const auto stats = render::render(job.setup(), sink, {}, &stop);
-        w.packetizer->finish();
         const output::PacketOutputTotals t = out->finish();
         std::printf(
             "mirage emulate: %llu packets (%.2f MB) in %.3f s, %llu points from %llu pulses; "

@@ -44,7 +44,6 @@ void register_render(CLI::App& app) {
         const auto stats =
             render::render(job.setup(), sink, [&](const render::RenderStats& s) { bar.update(s); });
         bar.finish(stats);
-        writer.close();
         print_summary(stdout, "render", job, stats);
         std::printf("  wrote %s (LAS 1.4, point format %d, %llu points)\n", opts->out.c_str(),
                     opts->format, static_cast<unsigned long long>(writer.points_written()));

@@ -158,6 +158,9 @@ RenderStats render(const Setup& setup, PointSink& sink, const ProgressFn& progre
     queue.close();
     for (auto& t : pool) t.join();
     queue.rethrow();
+    const double c0 = thread_cpu_s();
+    sink.finish();  // the one place a render's chain of stages ends
+    stats.cpu_output_s += thread_cpu_s() - c0;
     stats.seconds = seconds_since(t0);
     return stats;
 }

@@ -15,8 +15,10 @@ namespace mirage::render {
 // Progress: pulses done so far (called from the writer thread, rate-limited by the caller).
 using ProgressFn = std::function<void(const RenderStats&)>;
 
-// Renders setup.options.duration of pulses on worker threads into `sink`, in pulse order. Stops
-// early (returns what was written) when `stop` becomes true (SIGINT).
+// Renders setup.options.duration of pulses on worker threads into `sink`, in pulse order, then
+// finishes the sink (PointSink::finish). Stops early (returns what was written, and finishes the
+// sink) when `stop` becomes true (SIGINT). A failure (a worker's or the sink's) is rethrown
+// without finishing the sink.
 RenderStats render(const Setup& setup, PointSink& sink, const ProgressFn& progress = {},
                    const std::atomic<bool>* stop = nullptr);
 

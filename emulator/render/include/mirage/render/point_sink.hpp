@@ -25,6 +25,10 @@ class PointSink {
     // Called after each chunk's write: every pulse before `next_pulse` has been delivered. Packet
     // encoders need it because pulses without returns produce no points but still fill packets.
     virtual void pulses_done(std::uint64_t next_pulse) { (void)next_pulse; }
+    // The end of the stream: completes what the sink feeds (a LAS file's header, a packetizer's
+    // last packet). Called once by whoever drives the sink (render() at the end of its run, also
+    // when stopped early), never after a failure: the exception propagates instead.
+    virtual void finish() {}
 
     // Optional encoding on the render workers. A sink that returns a buffer here has each trace
     // batch's points passed to encode() on the worker that made them, while they are in cache
