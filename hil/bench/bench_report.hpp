@@ -56,11 +56,20 @@ struct BenchReport {
     std::vector<BvhRow> bvh;
 };
 
-// CPU model, cores, threads used, Embree version.
+// A row whose best pipeline run beats its best ceiling run by more than this is a broken
+// measurement: the ceiling traces exactly the pipeline's rays and does nothing else.
+inline constexpr double kCeilingTolerance = 1.1;
+// The rows above the ceiling: pipeline/ceiling over kCeilingTolerance, or not a number.
+std::vector<ThroughputRow> rows_above_ceiling(const BenchReport& r);
+
 // The CPU's model name from /proc/cpuinfo ("unknown CPU" when absent).
 std::string cpu_model();
+// CPU model, cores, threads used, Embree version.
 std::string machine_description(int threads);
-// report.md, report.json and time_vs_error.svg in `dir`.
+// report.md, report.json and time_vs_error.svg in `dir`. A figure that is not finite reads n/a
+// in the markdown, null in the JSON, and is left out of the plot.
 void write_reports(const BenchReport& r, const std::string& dir);
+// The JSON report (report.json).
+std::string report_json(const BenchReport& r);
 
 }  // namespace mirage::hil

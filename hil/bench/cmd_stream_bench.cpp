@@ -35,6 +35,7 @@
 #include "mirage/velodyne/packetizer.hpp"
 #include "mirage/wire/setup.hpp"
 #include "stream_bench.hpp"
+#include "stream_report.hpp"
 #include "text_file.hpp"
 
 namespace mirage::hil {
@@ -71,8 +72,6 @@ wire::WireOptions wire_options(const Case& c) {
     return w;
 }
 
-double us(std::int64_t ns) { return static_cast<double>(ns) / 1e3; }
-
 double cpu_seconds() {
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
@@ -81,11 +80,6 @@ double cpu_seconds() {
     };
     return tv(ru.ru_utime) + tv(ru.ru_stime);
 }
-
-struct Machine {
-    std::string cpu, kernel, load;
-    unsigned cores = 0;
-};
 
 Machine machine_now() {
     Machine m;
@@ -101,19 +95,6 @@ Machine machine_now() {
 }
 
 // ---- 1. Encoder throughput ------------------------------------------------------------------
-
-struct EncoderRow {
-    std::string label;
-    std::uint64_t packets = 0, bytes = 0, pulses = 0, aux_packets = 0;
-    double seconds = 0, packets_per_s = 0, device_packets_per_s = 0;
-    double emulate_packets_per_s = 0;  // as `mirage emulate` builds it (position from georef)
-    double headroom() const {
-        return device_packets_per_s > 0 ? packets_per_s / device_packets_per_s : 0;
-    }
-    double emulate_headroom() const {
-        return device_packets_per_s > 0 ? emulate_packets_per_s / device_packets_per_s : 0;
-    }
-};
 
 struct EncodeCount {
     std::uint64_t data = 0, aux = 0, bytes = 0;
@@ -292,27 +273,6 @@ void receive_loop(StreamRun& r, std::int64_t rt_minus_mono, const std::atomic<bo
     }
 }
 
-struct StreamRow {
-    std::string label;
-    double device_packets_per_s = 0, expected_data = 0;
-    std::uint64_t data_sent = 0, data_received = 0, aux_sent = 0, aux_received = 0;
-    std::uint64_t failed_sends = 0, lost = 0, unmatched = 0, ring_full = 0;
-    double rx_packets_per_s = 0, rate_error = 0;  // received rate / device rate − 1
-    std::uint64_t pacer_late = 0;                 // output Pacer: later than 100 µs
-    double pacer_p99_us = 0, pacer_worst_us = 0;
-    double send_p50_us = 0, send_p99_us = 0;  // shared sender: duration of the send calls
-    std::uint64_t handed_late_1ms = 0;  // packets reaching the output > 1 ms after their deadline
-    double handed_worst_ms = 0, handed_ahead_p50_ms = 0;
-    double late_first_s = 0, late_last_s = 0;  // when (schedule time) the late ones fell
-    LatenessSummary wire;
-    std::uint64_t pulses = 0, points = 0;
-    // Thread CPU seconds: render workers (rays + trace + shade) and the writer thread in the sink
-    // (packet encoding, position / IMU fixes, the Pacer's final spin, send system calls).
-    double cpu_render_s = 0, cpu_output_s = 0;
-    bool real_time = false;
-    std::string error;
-};
-
 StreamRow summarize_stream(const StreamRun& r, double seconds) {
     StreamRow s;
     s.label = r.c.label;
@@ -359,26 +319,6 @@ StreamRow summarize_stream(const StreamRun& r, double seconds) {
     return s;
 }
 
-struct StreamsResult {
-    std::vector<StreamRow> rows;
-    double wall_s = 0, cpu_s = 0;
-    int render_threads = 1;
-    std::size_t chunk_pulses = 0;
-    int fifo_priority = 0;
-    bool shared = true;  // one SharedSender thread for all streams (else a Pacer per stream)
-    bool fifo = false;   // the sending thread(s) got SCHED_FIFO
-    std::string fifo_error;
-    // Shared sender: its thread's CPU seconds, wake-ups by submits, submits held back by the
-    // horizon / by a full queue.
-    double sender_cpu_s = 0;
-    int spin_margin_us = 50;
-    double horizon_ms = 0;
-    std::uint64_t sender_wakeups = 0, horizon_waits = 0, full_waits = 0;
-    double wake_late_p50_us = 0, wake_late_p99_us = 0;  // its timed sleeps' overshoot
-    std::string trajectory;
-    double cpu_percent() const { return wall_s > 0 ? 100.0 * cpu_s / wall_s : 0; }
-};
-
 StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, double seconds_scene,
                           const std::string& seconds, const std::string& trajectory,
                           int render_threads, std::size_t chunk_pulses, int fifo_priority,
@@ -401,6 +341,8 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
     res.render_threads = render_threads;
     res.chunk_pulses = chunk_pulses;
     res.trajectory = trajectory;
+    res.render_lead_ms =
+        std::chrono::duration<double, std::milli>(output::kEmulateRenderLead).count();
     const double secs = static_cast<double>(parse_seconds(seconds, "--seconds").count()) / 1e9;
     std::vector<std::unique_ptr<StreamRun>> runs;
     for (const Case& c : kStreamCases) {
@@ -412,6 +354,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         in.duration = seconds;
         in.threads = render_threads;
         r->job = load_job_with_scene(in, scene, seconds_scene, runs.empty());
+        if (!runs.empty()) r->job.renderer = runs.front()->job.renderer;  // one BVH for all
         r->job.options.chunk_pulses = chunk_pulses;
         const wire::WireOptions wo = wire_options(c);
         wire::prepare_sensor(r->job.sensor, wo, 0);
@@ -441,7 +384,6 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         r->wire_late.reserve(expect + 4096);
         runs.push_back(std::move(r));
     }
-    const render::Renderer& renderer = *runs.front()->job.renderer;
     const std::int64_t rt_minus_mono = hostclock::realtime_minus_monotonic();
 
     std::atomic<bool> done{false};
@@ -454,14 +396,11 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
     const double cpu0 = cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     for (auto& r : runs)
-        senders.emplace_back([&r, &renderer] {
+        senders.emplace_back([&r] {
             pthread_setname_np(pthread_self(), "mirage-writer");
             try {
                 output::PacketizerSink sink(*r->wire.packetizer);
-                const Job& j = r->job;
-                r->stats = render::render(*j.scene, renderer, j.sensor, j.trajectory, j.mount,
-                                          j.env, j.options, sink);
-                r->wire.packetizer->finish();
+                r->stats = render::render(r->job.setup(), sink);
                 r->totals = r->out->finish();
             } catch (const std::exception& e) {
                 r->error = e.what();
@@ -492,13 +431,6 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
 
 // ---- 3. Pacing probe ------------------------------------------------------------------------
 
-struct ProbeRow {
-    std::string label;
-    bool ran = false;
-    std::string note;
-    udp::PacingProbeReport report;
-};
-
 ProbeRow run_probe(double seconds, int fifo_priority) {
     ProbeRow row;
     row.label = fifo_priority > 0 ? fmt::format("10 kHz, SCHED_FIFO {}", fifo_priority)
@@ -520,247 +452,6 @@ ProbeRow run_probe(double seconds, int fifo_priority) {
     row.report = udp::run_pacing_probe(pc);
     row.ran = true;
     return row;
-}
-
-// ---- 4. Reports -----------------------------------------------------------------------------
-
-struct Report {
-    Machine machine;
-    std::string seconds;
-    bool quick = false;
-    double scene_seconds = 0;
-    std::vector<EncoderRow> encoder;
-    StreamsResult streams;
-    std::vector<ProbeRow> probes;
-};
-
-std::string yes_no(bool b) { return b ? "yes" : "no"; }
-
-std::string markdown(const Report& r) {
-    std::ostringstream o;
-    o << "# mirage stream-bench\n\n";
-    o << fmt::format(
-        "Machine: {}, {} cores, {}; load average at start {}. Run: --seconds {}{}.\n\n",
-        r.machine.cpu, r.machine.cores, r.machine.kernel, r.machine.load, r.seconds,
-        r.quick ? " --quick" : "");
-    o << "## Encoder throughput (synthetic returns for every pulse, no-op packet sink)\n\n";
-    o << "| model / mode | pulses | data packets | position/IMU | MB | encode s | packets/s | "
-         "device packets/s | headroom × | as emulate builds it: packets/s | headroom × |\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const auto& e : r.encoder)
-        o << fmt::format(
-            "| {} | {} | {} | {} | {:.1f} | {:.3f} | {:.0f} | {:.1f} | {:.1f} | {:.0f} | {:.2f} "
-            "|\n",
-            e.label, e.pulses, e.packets, e.aux_packets, static_cast<double>(e.bytes) / 1e6,
-            e.seconds, e.packets_per_s, e.device_packets_per_s, e.headroom(),
-            e.emulate_packets_per_s, e.emulate_headroom());
-    o << "\nThe encoder alone uses a fixed position fix (Velodyne) and the static pose (Ouster "
-         "IMU); \"as emulate builds it\" goes through wire::make_wire, whose Velodyne position "
-         "packets "
-         "take the fix from the trajectory through Georef::geodetic_from_local (once per UTC "
-         "second).\n";
-    const auto& s = r.streams;
-    o << fmt::format(
-        "\n## Three streams at once in real time ({} s, trajectory {}, {} render worker "
-        "thread(s) per stream, {} pulses per chunk, renderers up to {} ms ahead, {})\n\n",
-        r.seconds, s.trajectory, s.render_threads, s.chunk_pulses,
-        std::chrono::duration_cast<std::chrono::milliseconds>(output::kEmulateRenderLead).count(),
-        fmt::format("{} {}",
-                    s.shared ? "one shared deadline-ordered sending thread (--sender shared)"
-                             : "each stream paced and sent by its writer thread (--sender "
-                               "per-stream)",
-                    s.fifo_priority > 0 && s.fifo
-                        ? fmt::format("SCHED_FIFO {}{}", s.fifo_priority,
-                                      s.shared ? " (writer threads SCHED_OTHER)" : "")
-                    : s.fifo_priority > 0
-                        ? fmt::format("SCHED_OTHER (FIFO refused: {})", s.fifo_error)
-                        : std::string("SCHED_OTHER")));
-    o << fmt::format(
-        "CPU used (getrusage user+sys / wall): {:.1f} % of one core ({:.2f} s CPU in "
-        "{:.2f} s wall, {} cores).\n\n",
-        s.cpu_percent(), s.cpu_s, s.wall_s, r.machine.cores);
-    if (s.shared)
-        o << fmt::format(
-            "Shared sending thread: {:.1f} % of one core (sleep to {} µs before the earliest "
-            "deadline, spin, send); {} early wake-ups by a submit; {} submits held back by the "
-            "{:.0f} ms horizon, {} by a full queue. Its timed sleeps ended {:.0f} µs (p50) / "
-            "{:.0f} µs (p99) after the instant asked for: a wake-up later than the spin margin "
-            "makes the packet late by the difference.\n\n",
-            s.wall_s > 0 ? 100 * s.sender_cpu_s / s.wall_s : 0.0, s.spin_margin_us,
-            s.sender_wakeups, s.horizon_waits, s.horizon_ms, s.full_waits, s.wake_late_p50_us,
-            s.wake_late_p99_us);
-    o << "| stream | device pkt/s | received pkt/s | rate error % | data sent | data received | "
-         "expected | aux sent/recv | failed sends | pacer late >100 µs | pacer p99 µs | pacer "
-         "worst µs | send call p50/p99 µs | handed >1 ms late | worst hand-over ms | real time "
-         "|\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
-    for (const auto& t : s.rows)
-        o << fmt::format(
-            "| {} | {:.2f} | {:.2f} | {:+.3f} | {} | {} | {:.0f} | {}/{} | {} | {} | {:.0f} | "
-            "{:.0f} | {:.0f}/{:.0f} | {} | {:+.2f} | {} |\n",
-            t.label, t.device_packets_per_s, t.rx_packets_per_s, 100 * t.rate_error, t.data_sent,
-            t.data_received, t.expected_data, t.aux_sent, t.aux_received, t.failed_sends,
-            t.pacer_late, t.pacer_p99_us, t.pacer_worst_us, t.send_p50_us, t.send_p99_us,
-            t.handed_late_1ms, t.handed_worst_ms, yes_no(t.real_time));
-    for (const auto& t : s.rows)
-        if (t.handed_late_1ms > 0)
-            o << fmt::format(
-                "\n{}: the {} late hand-overs fell between {:.3f} s and {:.3f} s of the "
-                "schedule.\n",
-                t.label, t.handed_late_1ms, t.late_first_s, t.late_last_s);
-    o << "\nPacing error seen by the loopback receiver (SO_TIMESTAMPNS kernel time − scheduled "
-         "time, every packet incl. position / IMU):\n\n"
-         "| stream | packets | p50 µs | p99 µs | max µs | min µs | drift µs | lost | unmatched |\n"
-         "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const auto& t : s.rows)
-        o << fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:+.1f} | {} | {} |\n",
-                         t.label, t.wire.count, us(t.wire.p50), us(t.wire.p99), us(t.wire.max),
-                         us(t.wire.min), us(t.wire.drift), t.lost, t.unmatched);
-    o << "\nWhere the CPU goes, per stream (thread CPU time over the wall time, % of one core): "
-         "render = rays + Embree + physics on the worker(s); output = the writer thread inside the "
-         "sink: encoding, position / IMU fixes, and with --sender per-stream also the Pacer's "
-         "last-50-µs spin and the sends (with --sender shared: the copy into the shared "
-         "sender's queue).\n\n"
-         "| stream | pulses | points | render % | output % |\n|---|---:|---:|---:|---:|\n";
-    for (const auto& t : s.rows)
-        o << fmt::format("| {} | {} | {} | {:.1f} | {:.1f} |\n", t.label, t.pulses, t.points,
-                         s.wall_s > 0 ? 100 * t.cpu_render_s / s.wall_s : 0.0,
-                         s.wall_s > 0 ? 100 * t.cpu_output_s / s.wall_s : 0.0);
-    for (const auto& t : s.rows)
-        if (!t.error.empty()) o << fmt::format("\nError in {}: {}\n", t.label, t.error);
-    if (r.probes.empty()) {
-        o << "\n## Pacing probe\n\nNot run (--probe-seconds 0).\n";
-    } else {
-        o << "\n## Pacing probe (mirage::udp::run_pacing_probe, 1206-byte datagrams over loopback, "
-             "10 000 packets per second)\n\n"
-             "| run | packets recv/sched | p50 µs | p99 µs | max µs | > 50 µs | drift µs | pacer "
-             "wake p99 µs |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
-        for (const auto& p : r.probes) {
-            if (!p.ran) {
-                o << fmt::format("| {} | {} | | | | | | |\n", p.label, p.note);
-                continue;
-            }
-            const auto& w = p.report.wire;
-            o << fmt::format("| {} | {}/{} | {:.0f} | {:.0f} | {:.1f} | {} | {:+.1f} | {:.0f} |\n",
-                             p.label, p.report.received, p.report.scheduled,
-                             us(w.percentile(0.5).count()), us(w.percentile(0.99).count()),
-                             us(w.worst().count()), w.late(), us(p.report.drift.count()),
-                             us(p.report.pacer.percentile(0.99).count()));
-        }
-    }
-    bool all_rt = !s.rows.empty();
-    std::int64_t worst_p99 = 0, worst_drift = 0;
-    std::uint64_t late_total = 0, lost_total = 0, sent_total = 0;
-    for (const auto& t : s.rows) {
-        all_rt = all_rt && t.real_time;
-        late_total += t.handed_late_1ms;
-        lost_total += t.data_sent - std::min(t.data_sent, t.data_received);
-        sent_total += t.data_sent;
-        worst_p99 = std::max(worst_p99, t.wire.p99);
-        worst_drift = std::max(worst_drift, std::abs(t.wire.drift));
-    }
-    o << "\n## Targets (issue 3)\n\n";
-    o << fmt::format(
-        "- Three streams at once in real time on {} cores: {} (CPU {:.1f} % of one core; "
-        "{} of {} data packets lost; {} packets handed to the sender more than 1 ms after their "
-        "send time; rates within 0.5 %: {}).\n",
-        r.machine.cores, all_rt ? "met" : "NOT met", s.cpu_percent(), lost_total, sent_total,
-        late_total,
-        std::all_of(s.rows.begin(), s.rows.end(),
-                    [](const auto& t) { return std::abs(t.rate_error) <= 0.005; })
-            ? "yes"
-            : "no");
-    o << fmt::format(
-        "- Pacing p99 ≤ 50 µs (receiver, worst stream, {} sender): {} ({:.1f} µs; machine load "
-        "average at start {}).\n",
-        s.shared ? "shared" : "per-stream", worst_p99 <= 50'000 ? "met" : "NOT met", us(worst_p99),
-        r.machine.load);
-    o << fmt::format("- No drift (|drift| ≤ 10 µs over the run, worst stream): {} ({:.1f} µs).\n",
-                     worst_drift <= 10'000 ? "met" : "NOT met", us(worst_drift));
-    return o.str();
-}
-
-std::string json_escape(const std::string& s) {
-    std::string o;
-    for (const char ch : s) {
-        if (ch == '"' || ch == '\\') o += '\\';
-        if (static_cast<unsigned char>(ch) < 0x20) continue;
-        o += ch;
-    }
-    return o;
-}
-
-std::string json(const Report& r) {
-    std::ostringstream o;
-    o << "{\n";
-    o << fmt::format(
-        "\"machine\": {{\"cpu\": \"{}\", \"cores\": {}, \"kernel\": \"{}\", \"load_average\": "
-        "\"{}\"}},\n",
-        json_escape(r.machine.cpu), r.machine.cores, json_escape(r.machine.kernel), r.machine.load);
-    o << fmt::format("\"seconds\": {}, \"quick\": {}, \"scene_seconds\": {:.3f},\n", r.seconds,
-                     r.quick, r.scene_seconds);
-    o << "\"encoder\": [\n";
-    for (std::size_t i = 0; i < r.encoder.size(); ++i) {
-        const auto& e = r.encoder[i];
-        o << fmt::format(
-            "  {{\"name\": \"{}\", \"pulses\": {}, \"packets\": {}, \"bytes\": {}, "
-            "\"aux_packets\": {}, \"encode_seconds\": {:.6f}, \"packets_per_s\": {:.1f}, "
-            "\"device_packets_per_s\": {:.3f}, \"headroom\": {:.2f}, "
-            "\"emulate_packets_per_s\": {:.1f}, \"emulate_headroom\": {:.3f}}}{}\n",
-            e.label, e.pulses, e.packets, e.bytes, e.aux_packets, e.seconds, e.packets_per_s,
-            e.device_packets_per_s, e.headroom(), e.emulate_packets_per_s, e.emulate_headroom(),
-            i + 1 < r.encoder.size() ? "," : "");
-    }
-    const auto& s = r.streams;
-    o << "],\n";
-    o << fmt::format(
-        "\"streams_run\": {{\"wall_seconds\": {:.3f}, \"cpu_seconds\": {:.3f}, \"cpu_percent\": "
-        "{:.1f}, \"render_threads\": {}, \"chunk_pulses\": {}, \"trajectory\": \"{}\", "
-        "\"sender\": \"{}\", \"fifo\": {}, \"spin_margin_us\": {}, \"sender_cpu_seconds\": {:.3f}, "
-        "\"sender_wakeups\": {}, \"horizon_waits\": {}, \"full_waits\": {}, "
-        "\"sender_wake_late_p50_us\": {:.1f}, \"sender_wake_late_p99_us\": {:.1f}}},\n",
-        s.wall_s, s.cpu_s, s.cpu_percent(), s.render_threads, s.chunk_pulses,
-        json_escape(s.trajectory), s.shared ? "shared" : "per-stream", s.fifo, s.spin_margin_us,
-        s.sender_cpu_s, s.sender_wakeups, s.horizon_waits, s.full_waits, s.wake_late_p50_us,
-        s.wake_late_p99_us);
-    o << "\"streams\": [\n";
-    for (std::size_t i = 0; i < s.rows.size(); ++i) {
-        const auto& t = s.rows[i];
-        o << fmt::format(
-            "  {{\"name\": \"{}\", \"device_packets_per_s\": {:.3f}, \"expected_data_packets\": "
-            "{:.0f}, \"sent_data_packets\": {}, \"received_data_packets\": {}, "
-            "\"received_packets_per_s\": {:.3f}, \"rate_error\": {:.6f}, \"sent_aux_packets\": "
-            "{}, \"received_aux_packets\": {}, \"failed_sends\": {}, \"lost\": {}, "
-            "\"unmatched\": {}, \"pacer_late\": {}, \"pacer_p99_us\": {:.1f}, "
-            "\"pacer_worst_us\": {:.1f}, \"send_p50_us\": {:.1f}, \"send_p99_us\": {:.1f}, "
-            "\"handed_late_1ms\": {}, \"handed_worst_ms\": {:.3f}, \"handed_ahead_p50_ms\": "
-            "{:.3f}, \"late_first_s\": {:.3f}, \"late_last_s\": {:.3f}, "
-            "\"lateness_p50_us\": {:.1f}, \"lateness_p99_us\": "
-            "{:.1f}, \"lateness_max_us\": {:.1f}, \"lateness_min_us\": {:.1f}, \"drift_us\": "
-            "{:.1f}, \"pulses\": {}, \"points\": {}, \"cpu_render_seconds\": {:.3f}, "
-            "\"cpu_output_seconds\": {:.3f}, \"real_time\": {}, \"error\": \"{}\"}}{}\n",
-            t.label, t.device_packets_per_s, t.expected_data, t.data_sent, t.data_received,
-            t.rx_packets_per_s, t.rate_error, t.aux_sent, t.aux_received, t.failed_sends, t.lost,
-            t.unmatched, t.pacer_late, t.pacer_p99_us, t.pacer_worst_us, t.send_p50_us,
-            t.send_p99_us, t.handed_late_1ms, t.handed_worst_ms, t.handed_ahead_p50_ms,
-            t.late_first_s, t.late_last_s, us(t.wire.p50), us(t.wire.p99), us(t.wire.max),
-            us(t.wire.min), us(t.wire.drift), t.pulses, t.points, t.cpu_render_s, t.cpu_output_s,
-            t.real_time, json_escape(t.error), i + 1 < s.rows.size() ? "," : "");
-    }
-    o << "],\n\"pacing_probe\": [\n";
-    for (std::size_t i = 0; i < r.probes.size(); ++i) {
-        const auto& p = r.probes[i];
-        const auto& w = p.report.wire;
-        o << fmt::format(
-            "  {{\"name\": \"{}\", \"ran\": {}, \"note\": \"{}\", \"scheduled\": {}, "
-            "\"received\": {}, \"p50_us\": {:.1f}, \"p99_us\": {:.1f}, \"max_us\": {:.1f}, "
-            "\"over_50us\": {}, \"drift_us\": {:.1f}}}{}\n",
-            p.label, p.ran, json_escape(p.note), p.report.scheduled, p.report.received,
-            us(w.percentile(0.5).count()), us(w.percentile(0.99).count()), us(w.worst().count()),
-            w.late(), us(p.report.drift.count()), i + 1 < r.probes.size() ? "," : "");
-    }
-    o << "]\n}\n";
-    return o.str();
 }
 
 }  // namespace
@@ -863,10 +554,10 @@ void register_stream_bench(CLI::App& app) {
         }
 
         // 4. Reports.
-        const std::string md = markdown(rep);
+        const std::string md = stream_markdown(rep);
         const std::filesystem::path dir(o->out_dir);
         write_text_file((dir / "streams.md").string(), md, "stream-bench");
-        write_text_file((dir / "streams.json").string(), json(rep), "stream-bench");
+        write_text_file((dir / "streams.json").string(), stream_json(rep), "stream-bench");
         std::printf("\n%s\nwrote %s and %s\n", md.c_str(), (dir / "streams.md").string().c_str(),
                     (dir / "streams.json").string().c_str());
         for (const auto& t : rep.streams.rows)

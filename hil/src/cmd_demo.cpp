@@ -71,7 +71,7 @@ void write_range_preview(const std::string& path, const std::vector<core::PointR
 
 void run_one(const DemoRun& run, const std::string& scene_spec, const std::filesystem::path& dir,
              std::uint64_t seed, int threads, const std::shared_ptr<const scene::Scene>& scene,
-             double scene_seconds, std::unique_ptr<render::EmbreeRenderer>& renderer) {
+             double scene_seconds, std::shared_ptr<const render::EmbreeRenderer>& renderer) {
     JobInputs in;
     in.scene = scene_spec;
     in.sensor = run.sensor;
@@ -81,8 +81,8 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     in.threads = threads;
     // The scene and BVH are built once and shared by both runs.
     Job job = load_job_with_scene(in, scene, scene_seconds, /*build_renderer=*/false);
-    if (!renderer) renderer = std::make_unique<render::EmbreeRenderer>(*scene);
-    job.renderer = std::move(renderer);
+    if (!renderer) renderer = std::make_shared<render::EmbreeRenderer>(*scene);
+    job.renderer = renderer;
 
     const auto las_path = dir / fmt::format("demo_{}.las", run.name);
     const auto csv_path = dir / fmt::format("demo_{}_trajectory.csv", run.name);
@@ -98,10 +98,8 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
                run.seconds);
     ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
     const auto stats =
-        render::render(*job.scene, *job.renderer, job.sensor, job.trajectory, job.mount, job.env,
-                       job.options, sink, [&](const render::RenderStats& s) { bar.update(s); });
+        render::render(job.setup(), sink, [&](const render::RenderStats& s) { bar.update(s); });
     bar.finish(stats);
-    writer.close();
     print_summary(stdout, "demo", job, stats);
 
     const auto top_h = dir / fmt::format("demo_{}_height.png", run.name);
@@ -113,7 +111,6 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     fmt::print(
         "  LAS        {}\n  trajectory {}\n  previews   {}\n             {}\n             {}\n",
         las_path.string(), csv_path.string(), top_h.string(), top_i.string(), range.string());
-    renderer = std::move(job.renderer);
 }
 
 }  // namespace
@@ -147,7 +144,7 @@ void register_demo(CLI::App& app) {
         fmt::print(
             "demo town (seed {}): {} triangles placed, {} materials, generated in {:.2f} s\n",
             o->seed, scene->placed_triangle_count(), scene->materials.size(), scene_seconds);
-        std::unique_ptr<render::EmbreeRenderer> renderer;
+        std::shared_ptr<const render::EmbreeRenderer> renderer;
         run_one({"vlp16", "vlp16", "demo-car", o->car_seconds.c_str()}, scene_spec, dir, o->seed,
                 o->threads, scene, scene_seconds, renderer);
         run_one({"als", "als-mirror", "demo-flight", o->flight_seconds.c_str()}, scene_spec, dir,

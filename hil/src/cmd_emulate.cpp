@@ -150,9 +150,7 @@ void register_emulate(CLI::App& app) {
             forever ? ", until Ctrl-C" : "");
         const auto& stop = install_stop_signal();
         output::PacketizerSink sink(*w.packetizer);
-        const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
-                                          job.mount, job.env, job.options, sink, {}, &stop);
-        w.packetizer->finish();
+        const auto stats = render::render(job.setup(), sink, {}, &stop);
         const output::PacketOutputTotals t = out->finish();
         std::printf(
             "mirage emulate: %llu packets (%.2f MB) in %.3f s, %llu points from %llu pulses; "

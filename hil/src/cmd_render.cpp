@@ -41,11 +41,9 @@ void register_render(CLI::App& app) {
         las::LasWriter writer(opts->out, job.scene->georef, lo);
         las::LasSink sink(writer);
         ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
-        const auto stats = render::render(*job.scene, *job.renderer, job.sensor, job.trajectory,
-                                          job.mount, job.env, job.options, sink,
-                                          [&](const render::RenderStats& s) { bar.update(s); });
+        const auto stats =
+            render::render(job.setup(), sink, [&](const render::RenderStats& s) { bar.update(s); });
         bar.finish(stats);
-        writer.close();
         print_summary(stdout, "render", job, stats);
         std::printf("  wrote %s (LAS 1.4, point format %d, %llu points)\n", opts->out.c_str(),
                     opts->format, static_cast<unsigned long long>(writer.points_written()));

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "mirage/core/error.hpp"
 #include "mirage/navproto/nav_log_resim.hpp"
@@ -47,6 +48,11 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 }
 
 }  // namespace
+
+render::Setup Job::setup() const {
+    if (!renderer) throw std::logic_error("Job::setup: no renderer built");
+    return {*scene, *renderer, sensor, trajectory, mount, env, options};
+}
 
 wire::WireContext wire_context(const Job& job) {
     return {job.sensor, *job.scene, job.trajectory, job.mount, job.options.start};
@@ -238,7 +244,7 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
     job.env.sun.irradiance_w_m2_um = in.solar_irradiance;
     if (build_renderer)
         job.renderer =
-            std::make_unique<render::EmbreeRenderer>(*job.scene, embree_options(in.quality));
+            std::make_shared<render::EmbreeRenderer>(*job.scene, embree_options(in.quality));
     return job;
 }
 

@@ -45,6 +45,7 @@ struct JobInputs {
 
 void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajectory = true);
 
+// Owns what a render needs; setup() hands it to render::render() and the other renderers.
 struct Job {
     std::shared_ptr<const scene::Scene> scene;  // shared: renderers keep pointers into it
     sensor::SensorModel sensor;
@@ -52,8 +53,11 @@ struct Job {
     core::Mount mount;
     physics::Environment env;
     render::RenderOptions options;
-    std::unique_ptr<render::EmbreeRenderer> renderer;
+    std::shared_ptr<const render::EmbreeRenderer> renderer;  // shared by jobs on one scene
     double scene_seconds = 0;
+
+    // Refers to the job's scene, renderer (which must be set), sensor and trajectory.
+    render::Setup setup() const;
 };
 
 // Loads scene, sensor and trajectory, builds the BVH. Throws ConfigError on bad inputs.

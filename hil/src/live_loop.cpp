@@ -25,8 +25,7 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
                             const std::atomic<bool>& stop) {
     const core::GpsTime start = job_.options.start;
     const auto& scan = *job_.sensor.scan;
-    render::WindowRenderer wr(*job_.scene, *job_.renderer, job_.sensor, job_.mount, job_.env,
-                              job_.options);
+    render::WindowRenderer wr(job_.setup());
     std::vector<core::PointRecord> pts;
     render::RenderStats rstats;
     const std::int64_t t_begin = hostclock::monotonic_ns();

@@ -43,6 +43,16 @@ void enable_ftz_daz() {
 #endif
 }
 
+// Ray direction components smaller than this are passed to Embree as +0. Embree 3's safe
+// reciprocal (zero_fix in its common/math/vec3fa.h) replaces every component below 1e-18 by
+// +1e-18 whatever its sign, while the ray's octant and triangle test keep the sign; a ray whose
+// origin lies on a BVH node's bounding plane then culls the node it enters, and in a coherent
+// packet every ray of that octant misses with it (flat ground 0.84 m below the sensor, from
+// cos(π/2)·sin(θ) ≈ −3e-20 in a scan direction). 1e-12 rad moves a point 2 km away by 2 nm.
+constexpr float kTinyDirection = 1e-12f;
+
+inline float snap_tiny(float d) { return std::abs(d) < kTinyDirection ? 0.0f : d; }
+
 std::string mesh_label(const scene::Scene& scene, std::size_t m) {
     std::string label = "meshes[" + std::to_string(m) + "]";
     if (!scene.meshes[m].name.empty()) label += " '" + scene.meshes[m].name + "'";
@@ -245,9 +255,9 @@ struct EmbreeRenderer::Impl {
             rh.ray.org_y = r.oy;
             rh.ray.org_z = r.oz;
             rh.ray.tnear = r.tnear;
-            rh.ray.dir_x = r.dx;
-            rh.ray.dir_y = r.dy;
-            rh.ray.dir_z = r.dz;
+            rh.ray.dir_x = snap_tiny(r.dx);
+            rh.ray.dir_y = snap_tiny(r.dy);
+            rh.ray.dir_z = snap_tiny(r.dz);
             rh.ray.time = 0.0f;
             rh.ray.tfar = r.tfar;
             rh.ray.mask = 0xFFFFFFFFu;
@@ -284,9 +294,9 @@ struct EmbreeRenderer::Impl {
                 rh.ray.org_y[k] = r[k].oy;
                 rh.ray.org_z[k] = r[k].oz;
                 rh.ray.tnear[k] = r[k].tnear;
-                rh.ray.dir_x[k] = r[k].dx;
-                rh.ray.dir_y[k] = r[k].dy;
-                rh.ray.dir_z[k] = r[k].dz;
+                rh.ray.dir_x[k] = snap_tiny(r[k].dx);
+                rh.ray.dir_y[k] = snap_tiny(r[k].dy);
+                rh.ray.dir_z[k] = snap_tiny(r[k].dz);
                 rh.ray.tfar[k] = r[k].tfar;
                 rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;

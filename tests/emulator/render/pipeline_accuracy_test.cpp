@@ -58,8 +58,8 @@ TEST(PipelineAccuracy, plane_ranges_within_half_millimetre_rms_up_to_200_m) {
             const auto dirs = cone(2000, 10 * kDeg, 7);
             auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 1000));
             VectorSink sink;
-            const auto stats = render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {},
-                                              quiet(dirs.size()), sink);
+            const auto stats = render::render(
+                {scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size())}, sink);
             const Eigen::Vector3d n = f.linear() * Eigen::Vector3d::UnitZ(), p0 = f.translation();
             ErrorStats err;
             for (const auto& p : sink.points) {
@@ -131,7 +131,7 @@ TEST(PipelineAccuracy, sphere_and_box_corner_match_double_precision_truth) {
     }
     auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 1000));
     VectorSink sink;
-    render::render(s, embree, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()),
+    render::render({s, embree, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size())},
                    sink);
     std::vector<render::Ray> rays(dirs.size());
     for (std::size_t i = 0; i < dirs.size(); ++i) {
@@ -178,7 +178,7 @@ void check_anchor(const core::Georef& georef, const char* label) {
             explicit Sink(las::LasWriter& x) : w(x) {}
             void write(std::span<const core::PointRecord> p) override { w.write(p); }
         } sink(w);
-        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size()),
+        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(dirs.size())},
                        sink);
         w.close();
     }
@@ -222,7 +222,7 @@ TEST(PipelineAccuracy, received_power_equals_closed_form_range_equation) {
             auto sensor =
                 test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
             VectorSink sink;
-            render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(1), sink);
+            render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(1)}, sink);
             ASSERT_EQ(sink.points.size(), 1u) << d << " " << inc;
             const double expect =
                 rad.laser_electrons(rad.closed_form_lambertian_w(d, 0.37, std::cos(inc * kDeg)));
@@ -267,7 +267,7 @@ TEST(PipelineAccuracy, specular_and_retroreflective_power_follow_the_range_equat
                     test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
                 sensor.beam.sub_rays = sub_rays;
                 VectorSink sink;
-                render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(1),
+                render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, quiet(1)},
                                sink);
                 ASSERT_EQ(sink.points.size(), 1u) << m.name << " " << sub_rays << " " << inc;
                 const double c = std::cos(inc * kDeg);

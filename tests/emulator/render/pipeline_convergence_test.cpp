@@ -100,7 +100,7 @@ Returns render_with(const scene::Scene& scene, const render::Renderer& r,
     o.threads = 2;
     o.duration = core::Nanos(static_cast<std::int64_t>(dirs.size()) * 1000);
     VectorSink sink;
-    render::render(scene, r, s, core::Trajectory::fixed({}), {}, {}, o, sink);
+    render::render({scene, r, s, core::Trajectory::fixed({}), {}, {}, o}, sink);
     Returns out;
     for (const auto& p : sink.points)
         if (p.return_number == 1) out[p.pulse] = {double(p.range_m), int(p.intensity)};
@@ -187,12 +187,15 @@ TEST(PipelineConvergence, edge_error_falls_as_sub_rays_grow) {
     EXPECT_GT(pulses, 9u * 1440u);
     // Where a beam falls on two surfaces, the error is dominated by pulses whose strongest return
     // flips to the other surface (metres of range each): those fall from 1 to 7 to 19 sub-rays,
-    // and so do the range RMS, the intensity RMS and the pulses with a return in one render only.
+    // and so does the range RMS. A pulse with a return in one render only is a single ray
+    // missing a pole's edge: from 7 sub-rays on there is none (there were 28, 9 and 5 at 7, 19
+    // and 37 while Embree culled sub-rays with direction components below 1e-18; stress_test).
+    EXPECT_GT(e[0].missing, 0u);
     for (int k = 1; k < 3; ++k) {
         EXPECT_LT(e[k].range_rms_m, e[k - 1].range_rms_m) << kCounts[k] << " sub-rays";
         EXPECT_LT(e[k].switched, e[k - 1].switched) << kCounts[k] << " sub-rays";
-        EXPECT_LT(e[k].missing, e[k - 1].missing) << kCounts[k] << " sub-rays";
     }
+    for (int k = 1; k < 4; ++k) EXPECT_EQ(e[k].missing, 0u) << kCounts[k] << " sub-rays";
     for (int k = 1; k < 4; ++k) {
         EXPECT_LT(e[k].intensity_rms, e[k - 1].intensity_rms) << kCounts[k] << " sub-rays";
         EXPECT_LT(e[k].same_surface_range_rms_m, e[k - 1].same_surface_range_rms_m)

@@ -7,36 +7,13 @@
 #include <iterator>
 #include <numbers>
 
+#include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
 #include "pipeline_fixtures.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::test {
 namespace {
-
-// LAS output, encoded by the writing thread (write) or, like las::LasSink, by the workers.
-class LasOut : public render::PointSink {
-  public:
-    LasOut(las::LasWriter& w, bool on_workers) : w_(w), on_workers_(on_workers) {}
-    void write(std::span<const core::PointRecord> p) override { w_.write(p); }
-    std::unique_ptr<render::EncodedPoints> new_encoded() const override {
-        return on_workers_ ? std::make_unique<Chunk>() : nullptr;
-    }
-    void encode(std::span<const core::PointRecord> p, render::EncodedPoints& out) const override {
-        w_.encode(p, static_cast<Chunk&>(out).records);
-    }
-    void write_encoded(render::EncodedPoints& chunk) override {
-        w_.write_encoded(static_cast<Chunk&>(chunk).records);
-    }
-
-  private:
-    struct Chunk : render::EncodedPoints {
-        las::EncodedRecords records;
-        void clear() override { records.clear(); }
-    };
-    las::LasWriter& w_;
-    bool on_workers_;
-};
 
 std::string render_file(const TempDir& tmp, const std::string& name, int threads, std::size_t chunk,
                         std::uint64_t seed, std::size_t window_chunks = 0,
@@ -67,10 +44,11 @@ std::string render_file(const TempDir& tmp, const std::string& name, int threads
          {{10, 2, 1.8}, core::quaternion_from_rpy(0.01, 0, 1.0)}}};
     const auto path = tmp.file(name);
     las::LasWriter w(path, s.georef);
-    LasOut sink(w, encode_on_workers);
-    render::render(s, r, sensor, core::Trajectory(samples), {}, env, opt, sink);
-    w.close();
-    std::ifstream f(path, std::ios::binary);
+    // A copy of the points makes the sink encode on the writing thread.
+    std::vector<core::PointRecord> copy;
+    las::LasSink sink(w, encode_on_workers ? nullptr : &copy);
+    render::render({s, r, sensor, core::Trajectory(samples), {}, env, opt}, sink);
+    std::ifstream f(path, std::ios::binary);  // closed by the sink's finish()
     return {std::istreambuf_iterator<char>(f), {}};
 }
 
@@ -143,8 +121,8 @@ TEST(PipelineProgress, pulses_done_increases_to_the_total_and_covers_every_point
         }
         void pulses_done(std::uint64_t next) override { done.push_back(next); }
     } sink;
-    const auto stats = render::render(s, r, sensor, core::Trajectory(samples), {},
-                                      physics::Environment{}, opt, sink);
+    const auto stats = render::render(
+        {s, r, sensor, core::Trajectory(samples), {}, physics::Environment{}, opt}, sink);
     const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
     ASSERT_FALSE(sink.done.empty());
     EXPECT_EQ(sink.done.back(), total);
@@ -185,11 +163,11 @@ TEST(WindowRenderer, windows_of_any_size_give_render_s_points) {
             all.insert(all.end(), p.begin(), p.end());
         }
     } sink;
-    render::render(s, r, sensor, traj, {}, physics::Environment{}, opt, sink);
+    render::render({s, r, sensor, traj, {}, physics::Environment{}, opt}, sink);
     const std::uint64_t total = sensor.scan->pulse_count(opt.duration);
     ASSERT_GT(sink.all.size(), 2000u);
     for (std::size_t window : {384u, 1000u, 5000u}) {
-        render::WindowRenderer wr(s, r, sensor, {}, physics::Environment{}, opt);
+        render::WindowRenderer wr({s, r, sensor, traj, {}, physics::Environment{}, opt});
         std::vector<core::PointRecord> pts;
         render::RenderStats st;
         for (std::uint64_t first = 0; first < total; first += window)

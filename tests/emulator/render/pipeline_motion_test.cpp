@@ -39,7 +39,7 @@ TEST(PipelineMotion, every_point_lies_on_geometry_at_its_firing_time) {
     opt.noise = false;
     opt.duration = std::chrono::seconds(3);
     VectorSink sink;
-    render::render(scene, r, sensor, traj, {}, {}, opt, sink);
+    render::render({scene, r, sensor, traj, {}, {}, opt}, sink);
     ASSERT_EQ(sink.points.size(), 300'000u);
     double worst_plane = 0, worst_dir = 0;
     for (const auto& p : sink.points) {
@@ -81,7 +81,7 @@ TEST(PipelineMotion, lever_arm_and_boresight_place_and_point_the_sensor) {
     opt.noise = false;
     opt.duration = core::Nanos(1000);
     VectorSink sink;
-    render::render(scene, r, sensor, core::Trajectory::fixed(platform), mount, {}, opt, sink);
+    render::render({scene, r, sensor, core::Trajectory::fixed(platform), mount, {}, opt}, sink);
     ASSERT_EQ(sink.points.size(), 1u);
     const auto& p = sink.points[0];
     EXPECT_NEAR(p.x, 50.0, 1e-4);

@@ -56,7 +56,7 @@ TEST(PipelineNoise, range_noise_and_jitter_sigmas_within_one_percent) {
         range.add(double(p.range_m) - d);
     });
     const auto stats =
-        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, noisy(), sink);
+        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, noisy()}, sink);
     ASSERT_EQ(stats.points, kPulses);
     std::printf(
         "range sigma %.5f m (0.05), jitter sigma %.6f / %.6f rad (0.001), means %.2e %.2e %.2e\n",
@@ -85,7 +85,7 @@ TEST(PipelineNoise, large_jitter_angles_keep_their_sigma) {
     render::RenderOptions opt = noisy();
     opt.duration = core::Nanos(200'000 * 1000);
     const auto stats =
-        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, {}, opt, sink);
+        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, opt}, sink);
     ASSERT_EQ(stats.points, 200'000u);
     std::printf("jitter sigma 0.02 rad: measured %.6f / %.6f rad\n", ax.sigma(), ay.sigma());
     EXPECT_NEAR(ax.sigma() / sigma, 1.0, 0.01);
@@ -126,7 +126,7 @@ TEST(PipelineNoise, void_fraction_matches_closed_form_prediction) {
     std::uint64_t kept = 0;
     CallbackSink sink([&](const core::PointRecord&) { ++kept; });
     const auto stats =
-        render::render(scene, r, sensor, core::Trajectory::fixed({}), {}, env, noisy(), sink);
+        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, env, noisy()}, sink);
     const double measured = double(stats.voids) / double(stats.pulses);
     std::printf("void fraction %.5f, predicted %.5f (n_laser %.1f, n_other %.3g)\n", measured,
                 predicted, n_laser, n_other);

@@ -72,7 +72,7 @@ TEST(PipelineStress, extreme_geometry_and_time_give_finite_output) {
         if (p.range_m < 0.2f) ++near;
         if (p.t < t0 || p.t > t0 + std::chrono::hours(24)) ++bad;
     });
-    const auto stats = render::render(s, r, sensor, traj, {}, {}, opt, sink);
+    const auto stats = render::render({s, r, sensor, traj, {}, {}, opt}, sink);
     std::printf(
         "stress: %llu pulses, %llu points (%llu beyond 500 m, %llu within 0.2 m), %llu misses\n",
         (unsigned long long)stats.pulses, (unsigned long long)points, (unsigned long long)far,

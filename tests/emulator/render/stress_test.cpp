@@ -156,6 +156,52 @@ TEST_P(Stress, extreme_ranges_and_sizes_give_finite_hits_where_expected) {
     EXPECT_GE(chip_hits, 2900u);
 }
 
+// Direction components smaller than 1e-18 (trigonometric noise such as cos(π/2)·sin(θ), ~1e-20):
+// Embree 3's safe reciprocal (zero_fix in common/math/vec3fa.h) turns every such component into
+// +1e-18, whatever its sign, while the ray's octant and the triangle test keep the sign. A ray
+// whose origin lies on a BVH node's bounding plane then culls the node it enters (it missed flat
+// ground 0.84 m below it), and in a coherent packet every ray of that octant missed with it. The
+// origin sits exactly above a grid vertex, so the planes x = 0 and y = 0 bound nodes.
+TEST_P(Stress, tiny_direction_components_hit_ground_below_an_origin_on_a_node_plane) {
+    scene::Scene s;
+    push_material(s, "ground");
+    push_mesh(s, grid_mesh(400, -200.0, -200.0, 1.0, [](double, double) { return 1.0; }));
+    const EmbreeRenderer r(s, GetParam());
+    const double h = 0.8;  // the origin above the ground
+    std::vector<Ray> rays;
+    const float tiny[] = {-0x1.21295ap-65f, 0x1.21295ap-65f, -1e-30f, -0.0f, 0.0f,
+                          -2.2e-4f,         2.2e-4f,         -1e-19f};
+    for (float a : tiny) {
+        for (float b : tiny) {
+            for (const Eigen::Vector3d& d :
+                 {Eigen::Vector3d(a, 0.34, -0.94), Eigen::Vector3d(0.34, a, -0.94),
+                  Eigen::Vector3d(a, b, -1.0), Eigen::Vector3d(-0.5, b, -0.8)}) {
+                Ray ray;
+                ray.ox = 0.0f;
+                ray.oy = 0.0f;
+                ray.oz = static_cast<float>(1.0 + h);
+                const Eigen::Vector3f u = d.normalized().cast<float>();
+                ray.dx = d.x() == a ? a : u.x();  // keep the tiny component as it is
+                ray.dy = d.y() == b ? b : u.y();
+                ray.dz = u.z();
+                ray.tfar = 100.0f;
+                rays.push_back(ray);
+            }
+        }
+    }
+    const auto hits = trace(r, rays);
+    std::size_t missed = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const double expect =
+            h / -double(rays[i].dz) * Eigen::Vector3d(rays[i].dx, rays[i].dy, rays[i].dz).norm();
+        if (hits[i].hit() && std::abs(hits[i].t - expect) < 1e-5) continue;
+        if (++missed <= 4)
+            ADD_FAILURE() << "ray " << i << " dir (" << rays[i].dx << ", " << rays[i].dy << ", "
+                          << rays[i].dz << "): t " << hits[i].t << ", expected " << expect;
+    }
+    EXPECT_EQ(missed, 0u) << "of " << rays.size() << " rays";
+}
+
 EmbreeOptions opts(TraceApi api, BvhQuality q, bool robust, bool compact) {
     EmbreeOptions o;
     o.api = api;

@@ -10,6 +10,7 @@ namespace mirage::las {
 
 // Pipeline output to a LAS file, optionally keeping a copy of the points (for previews). Without
 // a copy the render workers encode the records (LasWriter::encode) and this thread only writes.
+// finish() closes the writer (the final header).
 class LasSink : public render::PointSink {
   public:
     LasSink(las::LasWriter& writer, std::vector<core::PointRecord>* keep = nullptr)
@@ -29,6 +30,7 @@ class LasSink : public render::PointSink {
     void write_encoded(render::EncodedPoints& chunk) override {
         writer_.write_encoded(static_cast<Encoded&>(chunk).records);
     }
+    void finish() override { writer_.close(); }
 
   private:
     struct Encoded : render::EncodedPoints {

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: Apache-2.0
+// Ray generation: a batch of pulses, their sensor poses and the sub-rays traced for them.
+#pragma once
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "mirage/core/pose.hpp"
+#include "mirage/core/time.hpp"
+#include "mirage/core/trajectory.hpp"
+#include "mirage/render/renderer.hpp"
+#include "mirage/sensor/sensor.hpp"
+
+namespace mirage::render {
+
+// Pulses of one trace batch in firing order, their sensor poses, and the rays traced for them.
+struct RayBatch {
+    std::uint64_t first = 0;  // global index of the batch's first pulse
+    std::vector<sensor::PulseSpec> specs;
+    // Per pulse, one array per axis (so the pose loop vectorises), local frame, double: the
+    // sensor origin and the nominal beam direction.
+    std::array<std::vector<double>, 3> origin, direction;
+    std::vector<Ray> rays;                 // tracing order
+    std::vector<std::uint32_t> first_ray;  // index in `rays` of pulse i's first sub-ray; the
+                                           // S sub-rays of a pulse are adjacent in `rays`
+    // The pose loop's inputs, copied out of `specs`: firing time (ns from the start, exact in
+    // double) and the sensor-frame direction.
+    std::vector<double> t;
+    std::array<std::vector<double>, 3> v;
+
+    Eigen::Vector3d origin_of(std::size_t i) const {
+        return {origin[0][i], origin[1][i], origin[2][i]};
+    }
+    Eigen::Vector3d direction_of(std::size_t i) const {
+        return {direction[0][i], direction[1][i], direction[2][i]};
+    }
+};
+
+// Builds the batches every tracer of the pipeline traces: render(), WindowRenderer and the
+// benchmark's Embree ceiling (TraceBatches) all go through for_each_batch().
+class RayBatchBuilder {
+  public:
+    RayBatchBuilder(const sensor::SensorModel& sensor, const core::Trajectory& trajectory,
+                    const core::Mount& mount, core::GpsTime start);
+
+    const std::vector<sensor::SubRay>& subrays() const { return subrays_; }
+
+    // Pulses [first, first + n) in batches of trace_batch_pulses() counted from `first`, in
+    // order: each is built into `g` and handed to fn(g). The one place where batch boundaries
+    // are decided.
+    template <class Fn>
+    void for_each_batch(std::uint64_t first, std::size_t n, RayBatch& g, Fn&& fn) const {
+        for (std::size_t done = 0; done < n; done += batch_) {
+            build(first + done, std::min(batch_, n - done), g);
+            fn(static_cast<const RayBatch&>(g));
+        }
+    }
+
+    // One batch: pulses [first, first + n).
+    void build(std::uint64_t first, std::size_t n, RayBatch& g) const;
+
+  private:
+    void load_pulses(std::uint64_t first, std::size_t n, RayBatch& g) const;
+    void blend_batch_poses(RayBatch& g) const;
+    void make_rays(RayBatch& g) const;
+    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out) const;
+
+    const sensor::SensorModel& sensor_;
+    const core::Trajectory& trajectory_;
+    core::Pose mount_;
+    core::GpsTime start_;
+    std::vector<sensor::SubRay> subrays_;
+    std::vector<std::pair<float, float>> tanf_;  // tangents of the sub-ray offsets
+    std::vector<float> inv_normf_;
+    std::uint32_t group_;
+    std::size_t pose_stride_;  // pulses between exact poses
+    std::size_t batch_;        // trace_batch_pulses()
+};
+
+}  // namespace mirage::render

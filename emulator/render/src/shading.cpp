@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: Apache-2.0
+// Shading: radiometry, detection and noise of a batch's pending returns, then their points.
+#include "shading.hpp"
+
+#include <numbers>
+
+#include "basis.hpp"
+#include "mirage/core/exp_poly.hpp"
+#include "mirage/core/rng.hpp"
+
+namespace mirage::render {
+namespace {
+
+// Per ray, brdf·cos θ·τ²/R² (eqs. 2–4 without the per-sensor constants): 0 for a ray without a
+// hit in [lo, hi] or seen edge-on (cos θ = 0 or NaN: no return); for a material whose `brdf`
+// entry is −1 (a specular lobe) −cos θ·τ²/R², the BRDF to be multiplied in per hit. One loop
+// without branches over all rays, so it vectorises, exponential and division included (the
+// pointers are `restrict`: GCC will not vectorise the table lookup otherwise). A miss's material
+// (kInvalidId) is clamped to a valid index and its term zeroed.
+void ray_terms(const Ray* __restrict ray, const Hit* __restrict h, const double* __restrict brdf,
+               std::uint32_t last_material, double lo, double hi, double alpha2, std::size_t count,
+               double* __restrict out) {
+    for (std::size_t r = 0; r < count; ++r) {
+        const double f = brdf[std::min(h[r].material, last_material)];
+        const double range = h[r].t;
+        const bool in_range = (range >= lo) & (range <= hi);  // `&`: no branch
+        const double cos_inc = incidence(ray[r], h[r]);
+        const double v = f * cos_inc * core::exp_poly(-alpha2 * range) / (range * range);
+        const double lit = cos_inc > 0.0 ? v : 0.0;  // two selects: GCC will not vectorise a
+        out[r] = in_range ? lit : 0.0;               // select on three combined conditions
+    }
+}
+
+// tan(x) by its series, for the small jitter angles: exact to double precision for |x| ≤ 1e-2,
+// and no libm call per draw.
+inline double series_tan(double x) {
+    const double x2 = x * x;
+    return x * (1.0 + x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0))));
+}
+
+// range[k] += sigma·z[k] (z may be null: no noise), then the nearest multiple of `resolution`
+// (0: none) as floor(range/resolution + ½). Branch-free so it vectorises: floor is a conversion
+// to int64 (GCC vectorises neither std::floor nor, in the same loop, the conversion back) of the
+// value clamped to [0, 1e15], so a range pushed below zero by the noise reads 0. `steps` is
+// scratch for n values.
+void noisy_ranges(double* __restrict range, const double* __restrict z, double sigma,
+                  double resolution, std::size_t n, std::int64_t* __restrict steps) {
+    if (z)
+        for (std::size_t k = 0; k < n; ++k) range[k] += sigma * z[k];
+    if (!(resolution > 0.0)) return;
+    const double inv = 1.0 / resolution;
+    for (std::size_t k = 0; k < n; ++k) {
+        double y = range[k] * inv + 0.5;
+        y = y >= 0.0 ? y : 0.0;  // NaN too
+        y = y <= 1e15 ? y : 1e15;
+        steps[k] = static_cast<std::int64_t>(y);
+    }
+    for (std::size_t k = 0; k < n; ++k) range[k] = static_cast<double>(steps[k]) * resolution;
+}
+
+// Platform jitter (seed 001 eq. 15) of n unit directions: each is turned by the angles σ·zx and
+// σ·zy about two axes orthogonal to it (orthonormal_basis, both of its cases computed and one
+// selected), so the lateral error grows with range. Branch-free so it vectorises; the tangent is
+// the series, exact for angles up to 1e-2 rad: PulseShader::exact_jitter redoes larger ones.
+void jitter_directions(double* __restrict dx, double* __restrict dy, double* __restrict dz,
+                       const double* __restrict zx, const double* __restrict zy, double sigma,
+                       std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+        const double x = dx[k], y = dy[k], z = dz[k];
+        const bool polar = std::abs(z) >= 0.9;
+        const double ia = 1.0 / std::sqrt(x * x + y * y);  // unused (maybe inf) when polar
+        const double ib = 1.0 / std::sqrt(y * y + z * z);
+        const double ux = polar ? 0.0 : y * ia;
+        const double uy = polar ? z * ib : -x * ia;
+        const double uz = polar ? -y * ib : 0.0;
+        const double vx = y * uz - z * uy, vy = z * ux - x * uz, vz = x * uy - y * ux;
+        const double tx = series_tan(sigma * zx[k]), ty = series_tan(sigma * zy[k]);
+        // |d + tx·u + ty·v| = √(1 + tx² + ty²) for orthonormal (d, u, v).
+        const double inv = 1.0 / std::sqrt(1.0 + tx * tx + ty * ty);
+        dx[k] = (x + tx * ux + ty * vx) * inv;
+        dy[k] = (y + tx * uy + ty * vy) * inv;
+        dz[k] = (z + tx * uz + ty * vz) * inv;
+    }
+}
+
+}  // namespace
+
+PulseShader::PulseShader(const Setup& setup)
+    : scene_(setup.scene),
+      sensor_(setup.sensor),
+      env_(setup.env),
+      opt_(setup.options),
+      radiometry_(sensor_.beam, sensor_.receiver, env_),
+      sun_up_(env_.sun.up()),
+      to_sun_(env_.sun.to_sun_enu()),
+      // Sub-ray hits closer than the pulse's range resolution merge into one return.
+      separation_m_(0.5 * 299'792'458.0 * sensor_.beam.pulse_width_s),
+      // Angle between neighbouring sub-rays (the footprint's ring spacing, beam radius / k).
+      cell_rad_(sensor_.beam.sub_rays > 1
+                    ? 0.5 * sensor_.beam.divergence_rad /
+                          std::round((std::sqrt(12.0 * sensor_.beam.sub_rays - 3.0) - 3.0) / 6.0)
+                    : 0.0),
+      // Received power of unit weight, range, BRDF, incidence and transmission: every sub-ray's
+      // power is this times w·brdf·cos θ·τ²/R² (eqs. 2–4 with the constants folded).
+      power_k_(radiometry_.laser_power_w(1.0, 1.0, 1.0, 1.0, 1.0)),
+      inv_resolution_(sensor_.receiver.range_resolution_m > 0.0
+                          ? 1.0 / sensor_.receiver.range_resolution_m
+                          : 0.0) {
+    // Per material, the whole BRDF when it does not depend on incidence (diffuse and retro); −1
+    // marks a specular lobe, evaluated by monostatic_brdf per hit.
+    for (const scene::Material& m : scene_.materials) {
+        const double diffuse = m.reflectance / std::numbers::pi;
+        const double f = m.retroreflective ? diffuse + m.retro_gain : diffuse;
+        brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
+        diffuse_brdf_.push_back(diffuse);
+        point_fields_.push_back({m.red, m.green, m.blue, m.classification});
+    }
+    if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
+    if (point_fields_.empty()) point_fields_.push_back({});
+}
+
+void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
+                        const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
+                        ShadedPoints& out) const {
+    const std::size_t s_count = subrays.size();
+    scratch.pending.clear();
+    // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
+    std::vector<double> weighted_k(s_count);
+    for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
+    ray_terms(g, hits, scratch);
+    const double* terms = scratch.ray_terms.data();
+    if (s_count == 1)
+        single_returns(g, hits, terms, weighted_k[0], scratch, out.stats);
+    else
+        clustered_returns(g, hits, terms, weighted_k, scratch, out.stats);
+    out.stats.rays += hits.size();
+    draw(g.first, scratch);
+    electrons(scratch);
+    detect(hits, scratch);
+    positions(g, scratch);
+    emit_points(g, hits, scratch, out);
+}
+
+// Per ray of the batch, brdf·cos θ·τ²/R²: see ray_terms() above.
+void PulseShader::ray_terms(const RayBatch& g, const std::vector<Hit>& hits,
+                            ShadeScratch& scratch) const {
+    scratch.ray_terms.resize(hits.size());
+    render::ray_terms(g.rays.data(), hits.data(), brdf_constant_.data(),
+                      static_cast<std::uint32_t>(brdf_constant_.size() - 1),
+                      sensor_.receiver.min_range_m, sensor_.receiver.max_range_m,
+                      2.0 * env_.atmosphere.extinction_per_m, hits.size(),
+                      scratch.ray_terms.data());
+}
+
+// Photo-electrons, intensity and (for the background) one-way transmission of every pending
+// return, in loops that vectorise (a logarithm or exponential per point was a library call);
+// voids among them are computed and unused.
+void PulseShader::electrons(ShadeScratch& scratch) const {
+    const std::size_t np = scratch.pending.size();
+    scratch.n_laser.resize(np);
+    scratch.intensity.resize(np);
+    for (std::size_t j = 0; j < np; ++j)
+        scratch.n_laser[j] = radiometry_.laser_electrons(scratch.pending[j].power_w);
+    if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+        const double alpha = env_.atmosphere.extinction_per_m;
+        scratch.tau1.resize(np);
+        for (std::size_t j = 0; j < np; ++j)
+            scratch.tau1[j] = core::exp_poly(-alpha * scratch.pending[j].range_m);
+    }
+    opt_.intensity.to_u16_many(scratch.n_laser.data(), np, scratch.intensity.data());
+}
+
+// The normals of every pending return. Return k of a pulse uses Philox block k of the pulse's
+// stream 0, one word per draw (void test, range, jitter x, jitter y), so a pulse's draws do not
+// depend on which of its returns were voids.
+void PulseShader::draw(std::uint64_t first, ShadeScratch& scratch) const {
+    if (!opt_.noise) return;
+    const std::size_t np = scratch.pending.size();
+    scratch.pulse.resize(np);
+    scratch.block.resize(np);
+    for (std::size_t j = 0; j < np; ++j) {
+        scratch.pulse[j] = first + scratch.pending[j].i;
+        scratch.block[j] = scratch.pending[j].k;
+    }
+    for (auto& w : scratch.words) w.resize(np);
+    core::philox_blocks(opt_.seed, 0, scratch.pulse.data(), scratch.block.data(), np,
+                        {scratch.words[0].data(), scratch.words[1].data(), scratch.words[2].data(),
+                         scratch.words[3].data()});
+    const bool need[4] = {true, sensor_.noise.range_sigma_m > 0.0,
+                          sensor_.noise.jitter_sigma_rad > 0.0,
+                          sensor_.noise.jitter_sigma_rad > 0.0};
+    for (std::size_t w = 0; w < 4; ++w) {
+        if (!need[w]) continue;
+        scratch.normals[w].resize(np);
+        core::normals_of_words(scratch.words[w].data(), np, scratch.normals[w].data());
+    }
+}
+
+// Background photo-electrons and the void test (eqs. 6–13) of every pending return, batched.
+void PulseShader::detect(const std::vector<Hit>& hits, ShadeScratch& scratch) const {
+    const std::size_t np = scratch.pending.size();
+    scratch.n_other.assign(np, 0.0);
+    scratch.voids.resize(np);
+    if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+        scratch.cos_sun.resize(np);
+        scratch.diffuse.resize(np);
+        for (std::size_t j = 0; j < np; ++j) {
+            const Hit& h = hits[scratch.pending[j].hit];
+            scratch.cos_sun[j] =
+                sun_up_ ? h.nx * to_sun_.x() + h.ny * to_sun_.y() + h.nz * to_sun_.z() : 0.0;
+            scratch.diffuse[j] = diffuse_brdf_[h.material];
+        }
+        radiometry_.background_electrons_many(scratch.diffuse.data(), scratch.cos_sun.data(),
+                                              scratch.tau1.data(), np, scratch.n_other.data());
+    }
+    radiometry_.voids_many(scratch.n_laser.data(), scratch.n_other.data(),
+                           opt_.noise ? scratch.normals[0].data() : nullptr, np,
+                           scratch.voids.data());
+}
+
+// Measured range and point position of every pending return (voids included, unused).
+void PulseShader::positions(const RayBatch& g, ShadeScratch& scratch) const {
+    const std::size_t np = scratch.pending.size();
+    scratch.range.resize(np);
+    scratch.steps.resize(np);
+    for (int a = 0; a < 3; ++a) {
+        scratch.dir[a].resize(np);
+        scratch.at[a].resize(np);
+    }
+    // Each return's pulse direction (and below origin), gathered so the loops read arrays.
+    for (std::size_t j = 0; j < np; ++j) {
+        const std::uint32_t i = scratch.pending[j].i;
+        scratch.range[j] = scratch.pending[j].range_m;
+        for (int a = 0; a < 3; ++a) scratch.dir[a][j] = g.direction[a][i];
+    }
+    const double jitter = opt_.noise ? sensor_.noise.jitter_sigma_rad : 0.0;
+    const double range_sigma = opt_.noise ? sensor_.noise.range_sigma_m : 0.0;
+    noisy_ranges(scratch.range.data(), range_sigma > 0.0 ? scratch.normals[1].data() : nullptr,
+                 range_sigma, inv_resolution_ > 0.0 ? sensor_.receiver.range_resolution_m : 0.0, np,
+                 scratch.steps.data());
+    if (jitter > 0.0) {
+        jitter_directions(scratch.dir[0].data(), scratch.dir[1].data(), scratch.dir[2].data(),
+                          scratch.normals[2].data(), scratch.normals[3].data(), jitter, np);
+        exact_jitter(g, jitter, scratch);
+    }
+    for (std::size_t j = 0; j < np; ++j)
+        for (int a = 0; a < 3; ++a) scratch.at[a][j] = g.origin[a][scratch.pending[j].i];
+    for (int a = 0; a < 3; ++a) {
+        const double* __restrict d = scratch.dir[a].data();
+        const double* __restrict range = scratch.range.data();
+        double* __restrict at = scratch.at[a].data();
+        for (std::size_t j = 0; j < np; ++j) at[j] += range[j] * d[j];
+    }
+}
+
+// Jitter angles beyond the series' range (σ of milliradians and more): the exact tangent.
+void PulseShader::exact_jitter(const RayBatch& g, double jitter, ShadeScratch& scratch) const {
+    const double* zx = scratch.normals[2].data();
+    const double* zy = scratch.normals[3].data();
+    for (std::size_t j = 0; j < scratch.pending.size(); ++j) {
+        if (std::abs(jitter * zx[j]) <= 1e-2 && std::abs(jitter * zy[j]) <= 1e-2) continue;
+        const Eigen::Vector3d d = g.direction_of(scratch.pending[j].i);
+        Eigen::Vector3d u, v;
+        orthonormal_basis(d, u, v);
+        const double tx = std::tan(jitter * zx[j]), ty = std::tan(jitter * zy[j]);
+        const Eigen::Vector3d e =
+            (d + tx * u + ty * v) * (1.0 / std::sqrt(1.0 + tx * tx + ty * ty));
+        for (int a = 0; a < 3; ++a) scratch.dir[a][j] = e[a];
+    }
+}
+
+// The point records of the pending returns that are not voids, with return numbers per pulse
+// (nearest first); a pulse whose returns were all voids counts as one void.
+void PulseShader::emit_points(const RayBatch& g, const std::vector<Hit>& hits,
+                              const ShadeScratch& scratch, ShadedPoints& out) const {
+    const std::size_t np = scratch.pending.size();
+    const std::size_t base = out.points.size();
+    out.points.resize(base + np);
+    const std::size_t kept = write_records(g, hits, scratch, out.points.data() + base);
+    out.points.resize(base + kept);
+    const PendingReturn* pending = scratch.pending.data();
+    const double* voids = scratch.voids.data();
+    core::PointRecord* pt = out.points.data() + base;
+    for (std::size_t j = 0; j < np;) {
+        const std::uint32_t i = pending[j].i;
+        std::size_t n = 0;
+        for (; j < np && pending[j].i == i; ++j) n += voids[j] == 0.0;
+        if (n == 0) out.stats.voids++;
+        for (std::size_t k = 0; k < n; ++k, ++pt) {
+            pt->return_number = static_cast<std::uint8_t>(k + 1);
+            pt->number_of_returns = static_cast<std::uint8_t>(n);
+        }
+    }
+    out.stats.points += kept;
+}
+
+// Every pending return is written to pts[] and only one that is not a void advances the count,
+// so the loop has no branch on the void test and reads the pulse and material fields by index.
+// Returns the count.
+std::size_t PulseShader::write_records(const RayBatch& g, const std::vector<Hit>& hits,
+                                       const ShadeScratch& scratch, core::PointRecord* pts) const {
+    const PendingReturn* pending = scratch.pending.data();
+    const double* voids = scratch.voids.data();
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < scratch.pending.size(); ++j) {
+        const PendingReturn& r = pending[j];
+        const sensor::PulseSpec& spec = g.specs[r.i];
+        const PointFields& m = point_fields_[hits[r.hit].material];
+        core::PointRecord& pt = pts[kept];
+        pt.x = scratch.at[0][j];
+        pt.y = scratch.at[1][j];
+        pt.z = scratch.at[2][j];
+        pt.t = opt_.start + core::Nanos(spec.t_ns);
+        pt.pulse = g.first + r.i;
+        pt.range_m = static_cast<float>(scratch.range[j]);
+        pt.scan_angle_deg = spec.scan_angle_deg;
+        pt.azimuth_deg = spec.azimuth_deg;
+        pt.n_laser = scratch.n_laser[j];
+        pt.intensity = scratch.intensity[j];
+        pt.channel = spec.channel;
+        pt.point_source_id = sensor_.point_source_id;
+        pt.red = m.red;
+        pt.green = m.green;
+        pt.blue = m.blue;
+        pt.classification = m.classification;
+        pt.scan_direction = spec.scan_direction;
+        pt.edge_of_flight_line = spec.edge_of_flight_line;
+        kept += voids[j] == 0.0;
+    }
+    return kept;
+}
+
+}  // namespace mirage::render

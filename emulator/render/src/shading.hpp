@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: Apache-2.0
+// Shading: a traced batch's hits -> returns (clustering, returns.cpp) -> radiometry, detection,
+// noise -> point records (shading.cpp).
+#pragma once
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "mirage/core/point.hpp"
+#include "mirage/physics/radiometry.hpp"
+#include "mirage/render/render_stats.hpp"
+#include "mirage/render/setup.hpp"
+#include "ray_batch.hpp"
+
+namespace mirage::render {
+
+// Sub-ray hit contributing to a return.
+struct Contribution {
+    double range_m;
+    double power_w;
+    std::uint32_t sub;          // sub-ray index, to recover the hit
+    double half_depth_m = 0.0;  // half the range depth of the sub-ray's patch (split_returns)
+};
+
+// A reported return of a batch, waiting for its noise draws.
+struct PendingReturn {
+    double range_m;     // power-weighted mean range
+    double power_w;     // summed received power
+    std::uint32_t i;    // pulse within the batch
+    std::uint32_t hit;  // index in the batch's hits of the strongest sub-ray: material, normal
+    std::uint32_t k;    // index among its pulse's reported returns, nearest first
+};
+
+// A worker's buffers for shading one batch: the draws of all its returns are made at once, in
+// loops whose iterations are independent (a pulse's draws are one long dependency chain, and
+// drawn pulse by pulse they left the core waiting on it).
+struct ShadeScratch {
+    std::vector<PendingReturn> pending;
+    std::vector<std::uint64_t> pulse;
+    std::vector<std::uint32_t> block;
+    std::array<std::vector<std::uint32_t>, 4> words;
+    std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
+    std::vector<Contribution> contributions;
+    std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see ray_terms() in shading.cpp
+    std::vector<double> n_laser;    // per pending return: photo-electrons
+    std::vector<std::uint16_t> intensity;  // and their calibrated intensity
+    std::vector<double> tau1;     // and one-way transmission at their range (for the background)
+    std::vector<double> cos_sun;  // and cos θ₂ of the sun on their surface
+    std::vector<double> diffuse;  // and that surface's ρ_d/π
+    std::vector<double> n_other;  // and background photo-electrons
+    std::vector<double> voids;    // and 1 for a void (N_laser < γ·ΔN), else 0
+    std::vector<double> range;    // and measured range (noise, resolution)
+    std::vector<std::int64_t> steps;         // (that range in resolution steps)
+    std::array<std::vector<double>, 3> dir;  // and beam direction, turned by the jitter
+    std::array<std::vector<double>, 3> at;   // and point position (local frame)
+};
+
+// What shading appends to: point records in pulse order, and the counts.
+struct ShadedPoints {
+    std::vector<core::PointRecord> points;
+    RenderStats stats;
+};
+
+// |cos θ| of a ray on its hit's normal, at most 1.
+inline double incidence(const Ray& ray, const Hit& hit) {
+    return std::min(1.0, std::abs(double(ray.dx * hit.nx + ray.dy * hit.ny + ray.dz * hit.nz)));
+}
+
+// Turns a traced batch into points. One shader serves all threads (shade() is const); it refers
+// to the setup's scene, sensor, environment and options, so the setup must outlive it.
+class PulseShader {
+  public:
+    explicit PulseShader(const Setup& setup);
+
+    void shade(const RayBatch& g, const std::vector<Hit>& hits,
+               const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
+               ShadedPoints& out) const;
+
+  private:
+    // A return: sub-ray hits merged into one echo.
+    struct Return {
+        double range_m = 0;          // power-weighted mean range
+        double power_w = 0;          // summed received power
+        std::uint32_t best_sub = 0;  // the strongest sub-ray: its hit gives material, normal
+    };
+    // A pulse's sub-ray hits within the receiver's ranges (buffer[0, count)), and the aggregates
+    // of one return taking them all.
+    struct PulseHits {
+        std::size_t count = 0;
+        bool any_close = false;
+        double lo = 0, hi = 0, sum_rp = 0, sum_p = 0;
+        std::uint32_t best_sub = 0;
+    };
+    // Power-weighted sums of one return while sub-ray hits are grouped.
+    struct ReturnSum {
+        double rp = 0, p = 0, best_p = -1;
+        std::uint32_t best_sub = 0;
+    };
+
+    // returns.cpp: sub-ray hits -> pending returns.
+    void single_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                        double k, ShadeScratch& scratch, RenderStats& stats) const;
+    void clustered_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                           const std::vector<double>& weighted_k, ShadeScratch& scratch,
+                           RenderStats& stats) const;
+    PulseHits gather_hits(const Hit* h, const Ray* ray, const double* term,
+                          const std::vector<double>& weighted_k, Contribution* buffer) const;
+    void set_patch_depths(const Hit* h, const Ray* ray, std::span<Contribution> contrib) const;
+    void split_returns(std::uint32_t i, std::uint32_t first_hit, std::span<Contribution> contrib,
+                       ShadeScratch& scratch) const;
+    int group_returns(std::span<const Contribution> contrib, ReturnSum (&sums)[8]) const;
+    void add_returns(std::uint32_t i, std::uint32_t first_hit, std::span<const Return> returns,
+                     ShadeScratch& scratch) const;
+
+    // shading.cpp: pending returns -> points.
+    void ray_terms(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
+    void electrons(ShadeScratch& scratch) const;
+    void draw(std::uint64_t first, ShadeScratch& scratch) const;
+    void detect(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
+    void positions(const RayBatch& g, ShadeScratch& scratch) const;
+    void exact_jitter(const RayBatch& g, double jitter, ShadeScratch& scratch) const;
+    void emit_points(const RayBatch& g, const std::vector<Hit>& hits, const ShadeScratch& scratch,
+                     ShadedPoints& out) const;
+    std::size_t write_records(const RayBatch& g, const std::vector<Hit>& hits,
+                              const ShadeScratch& scratch, core::PointRecord* pts) const;
+
+    // What a point record takes from its material, packed (scene::Material is a large struct).
+    struct PointFields {
+        std::uint16_t red, green, blue;
+        std::uint8_t classification;
+    };
+
+    const scene::Scene& scene_;
+    const sensor::SensorModel& sensor_;
+    const physics::Environment& env_;
+    const RenderOptions& opt_;
+    physics::Radiometry radiometry_;
+    bool sun_up_;
+    Eigen::Vector3d to_sun_;
+    double separation_m_;
+    double cell_rad_;
+    double power_k_;
+    double inv_resolution_;
+    std::vector<double> brdf_constant_;      // by material index: ρ_d/π (+ retro gain), or −1
+    std::vector<double> diffuse_brdf_;       // by material index: ρ_d/π (the sunlit background)
+    std::vector<PointFields> point_fields_;  // by material index
+};
+
+}  // namespace mirage::render
