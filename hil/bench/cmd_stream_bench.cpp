@@ -244,8 +244,8 @@ void hand_over(StreamRun& r, const wire::PacketView& p) {
 
 // Reads what has arrived, then sleeps 1 ms: the kernel stamps each datagram as it is sent, so
 // reading later changes no figure, while a receiver blocked in poll() would be woken by every
-// send, inside the sender's system call (measured on this VM: send calls p50 7-12 µs -> 4-7 µs,
-// whole run 157 % -> 144 % of a core). A remote client costs the emulator no wake-ups either.
+// send, inside the sender's system call, and lengthen it (docs/benchmarks.md §2). A remote
+// client costs the emulator no wake-ups either.
 void receive_loop(StreamRun& r, std::int64_t rt_minus_mono, const std::atomic<bool>& done) {
     udp::ReceivedDatagram d;
     for (;;) {

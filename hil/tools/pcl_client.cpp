@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // mirage-pcl-client: an independent Velodyne client (PCL 1.13's VLPGrabber / HDLGrabber) that
 // decodes a live UDP stream or a pcap and prints each revolution's point count and a summary.
-// Issue 3 item 6; PCL's decoding rules and quirks: wire-formats.md §5.1.
+// Issue 3 item 6; PCL's decoding rules and quirks: docs/wire-formats.md §5.1.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <pcl/io/hdl_grabber.h>

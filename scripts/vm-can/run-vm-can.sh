@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: Apache-2.0
 # Runs a SocketCAN test binary inside a qemu VM booted from Debian's kernel, for hosts whose
-# kernel has no AF_CAN (nav-protocols.md §13.4). One boot: vcan0/vcan1 up, the test binary
+# kernel has no AF_CAN (docs/nav-protocols.md §13.4). One boot: vcan0/vcan1 up, the test binary
 # against candump/cansend, optionally an slcan bridge on ttyS1 to a host unix socket.
 #
 #   run-vm-can.sh --test-binary <gtest exe> --work-dir <dir under the build dir> [--timeout s]

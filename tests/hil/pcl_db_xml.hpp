@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // PCL 1.13's HDLGrabber reads HDL-64E corrections only from a VeloView/PCL db.xml
 // (boost_serialization.DB.points_.item.px.{id_, rotCorrection_, vertCorrection_ in degrees,
-// distCorrection_, vertOffsetCorrection_, horizOffsetCorrection_ in cm}; wire-formats.md §1.7),
-// not from the ROS velodyne_pointcloud YAML that `mirage emulate --calibration-out` writes. This
-// converts the latter into the former, so PCL decodes with exactly the file Mirage shipped.
+// distCorrection_, vertOffsetCorrection_, horizOffsetCorrection_ in cm}; docs/wire-formats.md
+// §1.7), not from the ROS velodyne_pointcloud YAML that `mirage emulate --calibration-out` writes.
+// This converts the latter into the former, so PCL decodes with exactly the file Mirage shipped.
 #pragma once
 #include <yaml-cpp/yaml.h>
 

@@ -92,7 +92,7 @@ struct GeometryStats {
 //
 // PCL's frame is the manual's (x right, y forward, z up; azimuth α clockwise from +y):
 // x = r·sin α, y = r·cos α. Mirage's sensor frame is FLU with azimuth clockwise from +x, so
-// (x, y, z)_FLU = (y, −x, z)_PCL — the same swap ROS applies (wire-formats.md §1.8).
+// (x, y, z)_FLU = (y, −x, z)_PCL — the same swap ROS applies (docs/wire-formats.md §1.8).
 //
 // PCL's azimuth: HDLGrabber gives every slot of a block the block azimuth; VLPGrabber gives
 // slots 16–31 the block azimuth + half the packet's first block step and slots 0–15 the block

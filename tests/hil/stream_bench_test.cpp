@@ -31,7 +31,7 @@ void check_encoders(const json& rows) {
     }
 }
 
-// The three streams, in order, with closed-form device rates (wire-formats.md): VLP-16
+// The three streams, in order, with closed-form device rates (docs/wire-formats.md): VLP-16
 // strongest 1e9 / (24 × 55 296 ns), OS1-128 2048x10 = 2048 / 16 × 10.
 void check_streams(const json& rows) {
     ASSERT_EQ(rows.size(), 3u);

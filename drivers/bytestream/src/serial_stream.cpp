@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Serial ports and ptys: termios raw mode with the URI's baud and framing (nav-protocols.md §13.1).
+// Serial ports and ptys: termios raw mode with the URI's baud and framing (docs/nav-protocols.md
+// §13.1).
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <pty.h>
@@ -45,10 +46,18 @@ bool configure_tty(int fd, const SerialOptions& o) {
     tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
     tio.c_cflag |= CLOCAL | CREAD;
     switch (o.bits) {
-        case 5: tio.c_cflag |= CS5; break;
-        case 6: tio.c_cflag |= CS6; break;
-        case 7: tio.c_cflag |= CS7; break;
-        default: tio.c_cflag |= CS8; break;
+        case 5:
+            tio.c_cflag |= CS5;
+            break;
+        case 6:
+            tio.c_cflag |= CS6;
+            break;
+        case 7:
+            tio.c_cflag |= CS7;
+            break;
+        default:
+            tio.c_cflag |= CS8;
+            break;
     }
     if (o.parity != Parity::None) tio.c_cflag |= PARENB;
     if (o.parity == Parity::Odd) tio.c_cflag |= PARODD;
@@ -82,8 +91,8 @@ class SerialStream final : public FdStream {
         const char* what = "";
         const int fd = open_tty(options_, what);
         if (fd < 0)
-            throw IoError(fmt::format("serial '{}': {}: {}", options_.path, what,
-                                      std::strerror(errno)));
+            throw IoError(
+                fmt::format("serial '{}': {}: {}", options_.path, what, std::strerror(errno)));
         adopt(fd);
     }
 

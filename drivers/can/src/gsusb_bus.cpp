@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// gs_usb (candleLight-class) CAN adapter through libusb-1.0 (nav-protocols.md §10).
+// gs_usb (candleLight-class) CAN adapter through libusb-1.0 (docs/nav-protocols.md §10).
 //
 // Transfers are asynchronous: kRxTransfers bulk-IN transfers stay queued (as the Linux driver
 // keeps its RX URBs queued) so no frame is lost between receive() calls, and TX echoes are

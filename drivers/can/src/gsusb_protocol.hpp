@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// gs_usb host protocol, byte-exact (nav-protocols.md §10.2): control-request payloads, bit timing
-// and the bulk `gs_host_frame`. Pure functions, no libusb, so tests and fuzzers use them directly.
+// gs_usb host protocol, byte-exact (docs/nav-protocols.md §10.2): control-request payloads, bit
+// timing and the bulk `gs_host_frame`. Pure functions, no libusb, so tests and fuzzers use them
+// directly.
 #include <algorithm>
 #include <array>
 #include <cmath>

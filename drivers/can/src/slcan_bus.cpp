@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// slcan (Lawicel ASCII) CAN bus over a ByteStream (nav-protocols.md §9), framing by navcan.
+// slcan (Lawicel ASCII) CAN bus over a ByteStream (docs/nav-protocols.md §9), framing by navcan.
 #include "mirage/can/slcan_bus.hpp"
 
 #include <fmt/format.h>

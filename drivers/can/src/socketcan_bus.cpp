@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// SocketCAN backend: one raw AF_CAN socket bound to one interface (nav-protocols.md §7, §13.4).
+// SocketCAN backend: one raw AF_CAN socket bound to one interface (docs/nav-protocols.md §7,
+// §13.4).
 #include "mirage/can/socketcan_bus.hpp"
 
 #include <linux/can.h>

@@ -192,7 +192,7 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
     }
 }
 
-// Round to nearest (physics.md §3.3: truncation biases by up to a whole step) and refuse
+// Round to nearest (docs/physics.md §3.3: truncation biases by up to a whole step) and refuse
 // anything that would not fit int32, including NaN.
 bool LasWriter::Impl::quantise(double local, int axis, std::int32_t& out) const noexcept {
     const double q = (shift[axis] + local) / opt.scale;

@@ -19,7 +19,7 @@ double Atmosphere::extinction_from_visibility(double visibility_m, double wavele
             << wavelength_m << ") must be finite and > 0";
         throw ConfigError(msg.str());
     }
-    // The model is written for V in km and λ in µm (physics.md §3.2: mixing nm/m here is the
+    // The model is written for V in km and λ in µm (docs/physics.md §3.2: mixing nm/m here is the
     // HELIOS++ bug that makes extinction ≈ 8 × too weak). Convert at this boundary only.
     const double v_km = visibility_m * 1e-3;
     const double lambda_um = wavelength_m * 1e6;

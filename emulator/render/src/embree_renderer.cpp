@@ -31,7 +31,8 @@ namespace {
 static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float));
 static_assert(sizeof(Eigen::Vector3i) == 3 * sizeof(std::uint32_t));
 
-// Embree recommends flush-to-zero / denormals-are-zero in every tracing thread (physics.md §4.1).
+// Embree recommends flush-to-zero / denormals-are-zero in every tracing thread (docs/physics.md
+// §4.1).
 void enable_ftz_daz() {
 #if defined(__x86_64__) || defined(__i386__)
     thread_local bool done = false;

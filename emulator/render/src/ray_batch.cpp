@@ -150,8 +150,8 @@ void RayBatchBuilder::blend_batch_poses(RayBatch& g) const {
     }
 }
 
-// Ray order: one channel over neighbouring groups, sub-rays adjacent (physics.md §4.3: batching
-// one beam over neighbouring azimuths is 4–5× faster than firing order).
+// Ray order: one channel over neighbouring groups, sub-rays adjacent: packets of one beam over
+// neighbouring azimuths stay coherent, which firing order does not (docs/physics.md §4.3).
 void RayBatchBuilder::make_rays(RayBatch& g) const {
     const std::size_t n = g.specs.size();
     const std::size_t s_count = subrays_.size();

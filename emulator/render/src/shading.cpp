@@ -58,10 +58,10 @@ void noisy_ranges(double* __restrict range, const double* __restrict z, double s
     for (std::size_t k = 0; k < n; ++k) range[k] = static_cast<double>(steps[k]) * resolution;
 }
 
-// Platform jitter (seed 001 eq. 15) of n unit directions: each is turned by the angles σ·zx and
-// σ·zy about two axes orthogonal to it (orthonormal_basis, both of its cases computed and one
-// selected), so the lateral error grows with range. Branch-free so it vectorises; the tangent is
-// the series, exact for angles up to 1e-2 rad: PulseShader::exact_jitter redoes larger ones.
+// Platform jitter (docs/physics.md eq. (15)) of n unit directions: each is turned by the angles
+// σ·zx and σ·zy about two axes orthogonal to it (orthonormal_basis, both of its cases computed and
+// one selected), so the lateral error grows with range. Branch-free so it vectorises; the tangent
+// is the series, exact for angles up to 1e-2 rad: PulseShader::exact_jitter redoes larger ones.
 void jitter_directions(double* __restrict dx, double* __restrict dy, double* __restrict dz,
                        const double* __restrict zx, const double* __restrict zy, double sigma,
                        std::size_t n) {

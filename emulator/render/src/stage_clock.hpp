@@ -14,9 +14,9 @@ inline double thread_cpu_s() {
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-// A worker's CPU time per stage over one chunk. The thread's CPU clock is a system call (~2 600
-// cycles a read on the development VM: 5 reads per 2 048-pulse batch come to ~6 cycles a pulse),
-// so it is read once per chunk and split between the stages by the steady clock (a vDSO read).
+// A worker's CPU time per stage over one chunk. The thread's CPU clock can be a system call (on
+// virtual machines, thousands of cycles a read), so it is read once per chunk and split between
+// the stages by the steady clock (a vDSO read).
 class StageClock {
   public:
     enum Stage { kRays, kTrace, kShade, kOutput, kStages };

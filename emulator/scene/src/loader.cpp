@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Scene YAML loader.
 //
-// ---- Scene file format (also in recordings/scenes/README.md) ------------------------------------
+// ---- Scene file format (docs/file-formats.md §1) ------------------------------------
 // A YAML map with up to three keys; every other key, anywhere, is an error. Lengths in metres,
 // angles in degrees, all numbers finite.
 //

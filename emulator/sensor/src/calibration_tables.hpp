@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Published angle tables of the spinning presets (data, not code). Sources are named per table;
-// wire-formats.md §1.7 and §2.7 quote the same values.
+// docs/wire-formats.md §1.7 and §2.7 quote the same values.
 #include <array>
 
 namespace mirage::sensor::tables {
 
-// VLP-16 / Hi-Res elevation by channel, degrees (wire-formats.md §1.7; ROS VLP16db.yaml,
+// VLP-16 / Hi-Res elevation by channel, degrees (docs/wire-formats.md §1.7; ROS VLP16db.yaml,
 // VLP16_hires_db.yaml). Azimuth offsets 0; channel c fires at 2.304·c µs.
 inline constexpr std::array<double, 16> kVlp16ElevationDeg = {-15, 1, -13, 3,  -11, 5,  -9, 7,
                                                               -7,  9, -5,  11, -3,  13, -1, 15};
@@ -14,14 +14,14 @@ inline constexpr std::array<double, 16> kVlp16HiResElevationDeg = {
     -10.000, 0.667, -8.667, 2.000, -7.333, 3.333, -6.000, 4.667,
     -4.667,  6.000, -3.333, 7.333, -2.000, 8.667, -0.667, 10.000};
 
-// HDL-32E elevation by slot, degrees (wire-formats.md §1.7; ROS 32db.yaml, HDL-32E manual).
+// HDL-32E elevation by slot, degrees (docs/wire-formats.md §1.7; ROS 32db.yaml, HDL-32E manual).
 inline constexpr std::array<double, 32> kHdl32eElevationDeg = {
     -30.67, -9.33,  -29.33, -8.00,  -28.00, -6.67,  -26.67, -5.33,  -25.33, -4.00,  -24.00,
     -2.67,  -22.67, -1.33,  -21.33, 0.00,   -20.00, 1.33,   -18.67, 2.67,   -17.33, 4.00,
     -16.00, 5.33,   -14.67, 6.67,   -13.33, 8.00,   -12.00, 9.33,   -10.67, 10.67};
 
 // VLP-32C: elevation and the manual's azimuth offset δ = −ρ (ROS rot_correction), degrees
-// (wire-formats.md §1.7; VLP-32C manual Table 9-5). Pair (2k, 2k+1) fires at 2.304·k µs.
+// (docs/wire-formats.md §1.7; VLP-32C manual Table 9-5). Pair (2k, 2k+1) fires at 2.304·k µs.
 struct ElevAz {
     double elevation_deg;
     double azimuth_deg;
@@ -77,7 +77,7 @@ inline constexpr std::array<VertRot, 64> kHdl64eS3Xiesc = {{
     {-0.21457119711920336, -0.027436902217920986},  {-0.2079266762969834, 0.0290479702718764},
 }};
 
-// Ouster gen-1 OS-1-64 defaults, degrees (wire-formats.md §2.7; ouster-sdk sensor_info.cpp
+// Ouster gen-1 OS-1-64 defaults, degrees (docs/wire-formats.md §2.7; ouster-sdk sensor_info.cpp
 // gen1_altitude_angles / gen1_azimuth_angles). Row 0 = top beam.
 inline constexpr std::array<double, 64> kOs1Gen1AltitudeDeg = {
     16.611,  16.084,  15.557,  15.029,  14.502,  13.975,  13.447,  12.920,  12.393,  11.865,

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Start-up print of the effective sensor configuration. Beam and receiver settings are resolved
 // once per sensor and shared by all channels; the per-channel table repeats them so a reader can
-// see every override reach every channel (physics.md §3.5).
+// see every override reach every channel (docs/physics.md §3.5).
 #include <fmt/format.h>
 
 #include <cmath>

@@ -22,7 +22,7 @@ int ring_count(int n) {
 
 bool is_hex_count(int n) { return n >= 1 && ring_count(n) >= 0; }
 
-// Hexagonal rings (physics.md §3.5, §4.4): ring j of k holds 6·j samples at radius j/k of the
+// Hexagonal rings (docs/physics.md §3.5, §4.4): ring j of k holds 6·j samples at radius j/k of the
 // beam radius (divergence/2; the 1/e² radius for a Gaussian). Each sample stands for an equal
 // share of its annulus [(j − ½)Δ, (j + ½)Δ] (the outer one clipped at the beam radius, the centre
 // a disc of radius Δ/2), weighted by the profile at the sample: Gaussian exp(−2r²/w²), top-hat 1.

@@ -11,7 +11,7 @@ namespace {
 
 // OS-2-128 unit 992210000957 (FW 2.3.0), degrees: ouster-lidar/ouster-sdk @46b7bce
 // tests/pcaps/OS-2-128-U1_v2.3.0_1024x10.json (the os2_128_rng19.json capture of
-// wire-formats.md §6). Row 0 = top beam.
+// docs/wire-formats.md §6). Row 0 = top beam.
 constexpr std::array<double, 128> kOs2_128AltitudeDeg = {
     10.76, 10.58, 10.42, 10.24, 10.1,   9.93,   9.76,   9.57,   9.41,   9.24,   9.09,  8.91,  8.75,
     8.57,  8.41,  8.23,  8.08,  7.9,    7.74,   7.55,   7.39,   7.21,   7.03,   6.86,  6.7,   6.53,
@@ -80,8 +80,8 @@ bool parse_ouster_preset(const std::string& name, OusterPresetSpec& out) {
     return false;
 }
 
-// Azimuth 360°·m/W + beam_azimuth_angles[r] clockwise (θ = −beam_az, wire-formats.md §2.8): the
-// FLU frame of the pattern is Ouster's *lidar* frame (column 0 along +x); Ouster's sensor frame
+// Azimuth 360°·m/W + beam_azimuth_angles[r] clockwise (θ = −beam_az, docs/wire-formats.md §2.8):
+// the FLU frame of the pattern is Ouster's *lidar* frame (column 0 along +x); Ouster's sensor frame
 // is turned 180° about z.
 SpinningConfig ouster_spinning_config(const OusterPresetSpec& s) {
     SpinningConfig c;

@@ -135,7 +135,7 @@ SpinningConfig velodyne_config(double period_us) {
     return c;
 }
 
-// VLP-16 / Hi-Res: 16 firings 2.304 µs apart, 55.296 µs sequence (wire-formats.md §1.4).
+// VLP-16 / Hi-Res: 16 firings 2.304 µs apart, 55.296 µs sequence (docs/wire-formats.md §1.4).
 SensorModel make_vlp16(const std::string& name, const std::array<double, 16>& elevations) {
     SpinningConfig c = velodyne_config(55.296);
     for (std::size_t i = 0; i < elevations.size(); ++i)
@@ -162,7 +162,7 @@ SensorModel make_hdl32e() {
 
 // HDL-64E S3: 64 lasers per 48 µs cycle; the upper laser u and the lower laser 32 + u fire
 // together. VeloView places slot c at T[rc mod 4] + 6·⌊rc/4⌋ µs before the timestamp with
-// rc = 31 − c, T = {2.34, 3.54, 4.74, 6.0} (wire-formats.md §1.6); measured from the first
+// rc = 31 − c, T = {2.34, 3.54, 4.74, 6.0} (docs/wire-formats.md §1.6); measured from the first
 // firing of the cycle that is 6·⌊u/4⌋ + (6 − T[3 − u mod 4]) = 6·⌊u/4⌋ + {0, 1.26, 2.46, 3.66}.
 SensorModel make_hdl64e_s3() {
     SpinningConfig c = velodyne_config(48.0);
@@ -255,7 +255,8 @@ SensorModel preset(const std::string& name) {
     if (name == "hdl64e-s3") return with_wire(make_hdl64e_s3(), velodyne);
     if (detail::OusterPresetSpec os; detail::parse_ouster_preset(name, os))
         return with_wire(make_ouster(name, os), WireFamily::Ouster);
-    // Oscillating mirror: 50 Hz = 100 lines/s, ±20°, 500 kHz (physics.md §4.1 airborne pattern).
+    // Oscillating mirror: 50 Hz = 100 lines/s, ±20°, 500 kHz (docs/physics.md §4.1 airborne
+    // pattern).
     if (name == "als-mirror")
         return airborne_model(name, als_config(AirborneKind::Sawtooth, 500, 50, 40));
     if (name == "als-mirror-sine")

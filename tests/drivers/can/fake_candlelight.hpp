@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A fake candleLight (gs_usb) device for umockdev (nav-protocols.md §13.3): answers the usbdevfs
-// ioctls libusb issues on /dev/bus/usb/001/002, serves the gs_usb control requests, echoes
+// A fake candleLight (gs_usb) device for umockdev (docs/nav-protocols.md §13.3): answers the
+// usbdevfs ioctls libusb issues on /dev/bus/usb/001/002, serves the gs_usb control requests, echoes
 // bulk-OUT frames and lets the test inject bulk-IN packets or unplug the device.
 //
 // The handler runs on umockdev's worker thread; the test thread talks to it through `mutex_`.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// gs_usb bytes and bit timing without libusb (nav-protocols.md §10.2).
+// gs_usb bytes and bit timing without libusb (docs/nav-protocols.md §10.2).
 #include "gsusb_protocol.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// GsUsbBus against a fake candleLight under umockdev (nav-protocols.md §10.2, §13.3). Runs under
-// `umockdev-wrapper` (LD_PRELOAD); skips with a message otherwise.
+// GsUsbBus against a fake candleLight under umockdev (docs/nav-protocols.md §10.2, §13.3). Runs
+// under `umockdev-wrapper` (LD_PRELOAD); skips with a message otherwise.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -162,7 +162,7 @@ TEST_F(GsUsbUmockdev, listen_only_sets_mode_flag_and_close_resets) {
 
 TEST_F(GsUsbUmockdev, tx_frame_goes_out_byte_exact_and_its_echo_is_counted) {
     auto bus = mirage::can::open_gsusb(GsUsbOptions{});
-    // OxTS 0x601 LatitudeLongitude from nav-protocols.md §7.1: 081EAE1C184FDD06.
+    // OxTS 0x601 LatitudeLongitude from docs/nav-protocols.md §7.1: 081EAE1C184FDD06.
     ASSERT_TRUE(bus->send(frame(0x601, {0x08, 0x1E, 0xAE, 0x1C, 0x18, 0x4F, 0xDD, 0x06})));
     const BusCounters k =
         wait_counters(*bus, [](const BusCounters& c) { return c.tx_frames == 1; });

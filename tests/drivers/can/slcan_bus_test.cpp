@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// SlcanBus against a scripted peer: the pty master plays the adapter (nav-protocols.md §9).
+// SlcanBus against a scripted peer: the pty master plays the adapter (docs/nav-protocols.md §9).
 #include "mirage/can/slcan_bus.hpp"
 
 #include <gtest/gtest.h>

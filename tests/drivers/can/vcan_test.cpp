@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // SocketCanBus against a real kernel CAN stack: vcan interfaces inside the qemu VM of
-// scripts/vm-can (nav-protocols.md §13.4), with can-utils' candump and cansend as the peer.
+// scripts/vm-can (docs/nav-protocols.md §13.4), with can-utils' candump and cansend as the peer.
 // Outside the VM (MIRAGE_VCAN unset) every test skips with a visible reason.
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -126,7 +126,7 @@ CanFrame make(std::uint32_t id, bool extended, std::vector<std::uint8_t> bytes, 
     return f;
 }
 
-// nav-protocols.md §7.1: OxTS HeadingPitchRoll for heading 84.40°, pitch 1.20°, roll −0.50°.
+// docs/nav-protocols.md §7.1: OxTS HeadingPitchRoll for heading 84.40°, pitch 1.20°, roll −0.50°.
 const CanFrame kOxts607 = make(0x607, false, {0xF8, 0x20, 0x78, 0x00, 0xCE, 0xFF});
 const CanFrame kExt = make(0x18FF50E5, true, {0xAA, 0xBB, 0xCC, 0xDD, 0x11, 0x22, 0x33, 0x44});
 const CanFrame kRtr = make(0x123, false, {}, true);

@@ -112,8 +112,9 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     EXPECT_EQ(tot.span_ns, 4'000'000'000);
     EXPECT_EQ(tot.write_failures, 0u);
     // What the reader sees adds the kernel's pty delivery and the reader's wake-up to the
-    // replay's own lateness. Quantiles, not the worst case: a stall of this VM (up to 20 ms seen)
-    // delays the messages due during it and fails no test. p99 of the intervals: paced, not
+    // replay's own lateness. Quantiles, not the worst case: a stall of the whole machine (virtual
+    // machines are held off for tens of ms at times) delays the messages due during it and fails
+    // no test. p99 of the intervals: paced, not
     // dumped; median absolute error: not stretched (sleeping each interval instead adds every
     // wake-up's overshoot to all later messages: p50 19 ms when tried).
     EXPECT_LT(p99, kTolNs);

@@ -81,7 +81,7 @@ TEST(PcapWriter, frames_and_fragments_like_a_linux_host_with_valid_checksums) {
     ASSERT_EQ(f.records.size(), 10u);
 
     const Bytes& one = f.records[0].frame;
-    ASSERT_EQ(one.size(), 1248u);  // Velodyne data frame on the wire (wire-formats.md §1)
+    ASSERT_EQ(one.size(), 1248u);  // Velodyne data frame on the wire (docs/wire-formats.md §1)
     EXPECT_EQ(be16(one, 12), 0x0800);
     EXPECT_EQ(one[14], 0x45);
     EXPECT_EQ(be16(one, 16), 1234);

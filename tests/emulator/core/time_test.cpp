@@ -45,7 +45,7 @@ constexpr std::array<std::array<int, 2>, 18> kLeapDates{{{1981, 7},
 }  // namespace
 
 TEST(GpsTime, new_year_2024_is_week_2295_second_86418) {
-    // physics.md §3.1 test vector.
+    // docs/physics.md §3.1 test vector.
     const GpsTime t = parse_time("2024-01-01T00:00:00Z");
     const GpsWeekTime w = to_week_time(t);
     EXPECT_EQ(w.week, 2295);

@@ -13,7 +13,7 @@ using mirage::physics::Atmosphere;
 using mirage::physics::Sun;
 
 TEST(Atmosphere, kim_kruse_matches_test_vector_at_1064nm_23km) {
-    // physics.md §3.2: α(1064 nm, 23 km) = 0.0721 km⁻¹, two-way transmission over 1 km 0.866.
+    // docs/physics.md §3.2: α(1064 nm, 23 km) = 0.0721 km⁻¹, two-way transmission over 1 km 0.866.
     const double alpha = Atmosphere::extinction_from_visibility(23e3, 1064e-9);
     std::printf("alpha(1064 nm, 23 km) = %.6e m^-1, two-way 1 km = %.5f\n", alpha,
                 std::exp(-2.0 * alpha * 1000.0));

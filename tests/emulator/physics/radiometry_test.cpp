@@ -55,7 +55,7 @@ double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 }  // namespace
 
 TEST(Radiometry, eq2_irradiance_matches_check_value_in_si_and_seed_units) {
-    // physics.md §1.0: φ = 1 W, τ = 1, β = 3 mrad, R = 100 m → 14.147 W/m² = 1.4147e-3 W/cm².
+    // docs/physics.md §1.0: φ = 1 W, τ = 1, β = 3 mrad, R = 100 m → 14.147 W/m² = 1.4147e-3 W/cm².
     const double e = mp::laser_irradiance_w_m2(1.0, 1.0, 3e-3, 100.0);
     std::printf("eq.2 check: E = %.6f W/m^2 = %.6e W/cm^2\n", e, e / mp::kPerCm2ToPerM2);
     EXPECT_NEAR(e, 14.147, 5e-4);
@@ -167,7 +167,7 @@ TEST(Radiometry, extended_target_falls_as_inverse_square_and_carries_two_way_tau
 }
 
 TEST(Radiometry, eq1_with_lambertian_cross_section_equals_radiometric_chain) {
-    // Corrected eq. 1 (physics.md §1.1) with Γ = 4·ρ·cos θ·π(βR/2)² equals the closed form and
+    // Corrected eq. 1 (docs/physics.md §1.1) with Γ = 4·ρ·cos θ·π(βR/2)² equals the closed form and
     // the eq. 2–4 chain to rounding: with the spot inside the pixel FOV the chain collects over
     // Ω_spot = π·tan²(β/2), which cancels eq. 2's tan²(β/2), as eq. 1's β² cancels in Γ.
     const mp::Environment env = hazy();

@@ -31,7 +31,7 @@ TEST(EmbreeRenderer, two_million_triangle_heightfield_reports_build_stats_and_ex
     EXPECT_EQ(st.placed_triangles, 2000000u);
     EXPECT_GT(st.bvh_bytes, 0u);
     EXPECT_GT(st.build_seconds, 0.0);
-    // physics.md §4.5 measured 67 B/triangle for this kind of terrain; allow a wide band.
+    // Terrain-like meshes take about 70 B/triangle (docs/physics.md §4.5); allow a wide band.
     EXPECT_GT(per_tri, 20.0);
     EXPECT_LT(per_tri, 300.0);
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// Seed 001 eqs. 12–15 through the pipeline: measured σ of range noise and jitter within 1 % of
-// the configured values over 1e6 pulses; void fraction within 1 % of the closed-form prediction.
+// docs/physics.md eqs. (12)–(15) through the pipeline: measured σ of range noise and jitter within
+// 1 % of the configured values over 1e6 pulses; void fraction within 1 % of the closed-form
+// prediction.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Float32 precision (physics.md §4.8): geometry relative to the scene anchor keeps Embree's
+// Float32 precision (docs/physics.md §4.8): geometry relative to the scene anchor keeps Embree's
 // errors sub-millimetre whatever the anchor's magnitude; the same scene stored at its projected
 // coordinates in float32 does not.
 #include <gtest/gtest.h>

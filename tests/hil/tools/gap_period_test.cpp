@@ -10,8 +10,8 @@
 namespace mirage::hil {
 namespace {
 
-// One minute of gaps as this VM shows them: 36 µs every 1.000 ms (the hypervisor's tick) with
-// 2 µs of jitter, and 40 µs every 4 ms half a period later (the guest's 250 Hz tick).
+// One minute of gaps as a virtual machine can show them: 36 µs every 1.000 ms (a hypervisor's
+// tick) with 2 µs of jitter, and 40 µs every 4 ms half a period later (a guest's 250 Hz tick).
 std::vector<Gap> two_ticks(double period_ns) {
     std::mt19937_64 rng(7);
     std::normal_distribution<double> jitter(0.0, 2'000.0);

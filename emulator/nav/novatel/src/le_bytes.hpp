@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Little-endian field access (nav-protocols.md: binary protocols are little-endian), private.
+// Little-endian field access (docs/nav-protocols.md: binary protocols are little-endian), private.
 #include <bit>
 #include <cstddef>
 #include <cstdint>

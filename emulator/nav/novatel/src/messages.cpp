@@ -6,7 +6,7 @@
 namespace mirage::novatel {
 using namespace detail;
 
-// Offsets follow the tables of nav-protocols.md §2.3.
+// Offsets follow the tables of docs/nav-protocols.md §2.3.
 
 std::array<std::uint8_t, kBestPosBodySize> pack(const BestPos& m) {
     std::array<std::uint8_t, kBestPosBodySize> b{};

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Little-endian field access (all Velodyne multi-byte fields are LE, wire-formats.md §1).
+// Little-endian field access (all Velodyne multi-byte fields are LE, docs/wire-formats.md §1).
 #include <cstdint>
 
 namespace mirage::velodyne::detail {

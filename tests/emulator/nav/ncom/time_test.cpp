@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// NCOM time: GPS minutes from status channel 0 + ms into the minute (nav-protocols.md §3, §12).
+// NCOM time: GPS minutes from status channel 0 + ms into the minute (docs/nav-protocols.md §3,
+// §12).
 #include <gtest/gtest.h>
 
 #include "ncom_util.hpp"

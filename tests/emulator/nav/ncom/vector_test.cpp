@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The NCOM vector of nav-protocols.md §3: decodes to its values, and our encoder rebuilds it.
+// The NCOM vector of docs/nav-protocols.md §3: decodes to its values, and our encoder rebuilds it.
 #include <gtest/gtest.h>
 
 #include <array>

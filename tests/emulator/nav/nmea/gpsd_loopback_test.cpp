@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Loopback against a real NMEA peer (nav-protocols.md §13.2): our encoder's 1 Hz GGA+RMC+HDT
+// Loopback against a real NMEA peer (docs/nav-protocols.md §13.2): our encoder's 1 Hz GGA+RMC+HDT
 // go into a pty that gpsd reads; `gpspipe -w` reports TPVs whose lat/lon/alt must equal ours.
 #include <arpa/inet.h>
 #include <fcntl.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The real OxTS RT capture rst39.log (gpsd test suite; nav-protocols.md §1).
+// The real OxTS RT capture rst39.log (gpsd test suite; docs/nav-protocols.md §1).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Sentence layer and typed parsers against the test vectors of nav-protocols.md §1, and the
+// Sentence layer and typed parsers against the test vectors of docs/nav-protocols.md §1, and the
 // encoder reproducing them byte for byte (hence their checksums).
 #include "mirage/nmea/sentence.hpp"
 

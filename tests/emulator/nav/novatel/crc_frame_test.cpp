@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// CRC-32 check value and the real BESTPOSB frame of nav-protocols.md §2.1.
+// CRC-32 check value and the real BESTPOSB frame of docs/nav-protocols.md §2.1.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,7 +21,7 @@ std::span<const std::uint8_t> as_bytes(std::string_view s) {
     return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
 }
 
-// The BESTPOSB frame (header of nav-protocols.md §2.1; whole frame as in novatel_edie's framer
+// The BESTPOSB frame (header of docs/nav-protocols.md §2.1; whole frame as in novatel_edie's framer
 // tests, MIT): 28-byte header, 72-byte body, CRC 0x89C3CE55.
 const std::vector<std::uint8_t> kBestPosFrame = {
     0xAA, 0x44, 0x12, 0x1C, 0x2A, 0x00, 0x00, 0x20, 0x48, 0x00, 0x00, 0x00, 0xA3, 0xB4, 0x73,

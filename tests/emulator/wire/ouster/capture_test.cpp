@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
-// The real captures of wire-formats.md §6 decode without error, and our packetizer configured like
-// each captured sensor produces a stream with the same structure (issue 3 item 5).
+// The real captures of docs/wire-formats.md §6 decode without error, and our packetizer configured
+// like each captured sensor produces a stream with the same structure (issue 3 item 5).
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "ouster_capture_stats.hpp"
 #include "mirage/ouster/metadata.hpp"
 #include "mirage/ouster/packetizer.hpp"
 #include "mirage/pcap/pcap.hpp"
+#include "ouster_capture_stats.hpp"
 #include "ouster_test_util.hpp"
 #include "test_paths.hpp"
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Descriptors, CRC-64, lidar packet encode/decode and the decoder's statuses (wire-formats.md §2).
+// Descriptors, CRC-64, lidar packet encode/decode and the decoder's statuses (docs/wire-formats.md
+// §2).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -69,7 +70,7 @@ std::vector<std::uint8_t> encode(const Descriptor& d, const LidarPacket& p) {
 }
 
 TEST(OusterDescriptor, packet_sizes_match_the_spec_table) {
-    // wire-formats.md §2.2.
+    // docs/wire-formats.md §2.2.
     const struct {
         Profile p;
         std::size_t b32, b64, b128;

@@ -45,7 +45,7 @@ TEST(VelodyneCalibration, other_models_get_the_same_format) {
         ASSERT_EQ(static_cast<int>(y["lasers"].size()), md.lasers);
     }
     const YAML::Node v32 = YAML::Load(calibration_yaml(descriptor(Model::Vlp32c)));
-    // VLP-32C laser 1: ρ = 4.2° (wire-formats.md §1.7, ROS column), elevation −1°.
+    // VLP-32C laser 1: ρ = 4.2° (docs/wire-formats.md §1.7, ROS column), elevation −1°.
     EXPECT_NEAR(v32["lasers"][1]["rot_correction"].as<double>(), 4.2 * kRad, 1e-15);
     EXPECT_NEAR(v32["lasers"][1]["vert_correction"].as<double>(), -1.0 * kRad, 1e-15);
     const YAML::Node v16 = YAML::Load(calibration_yaml(descriptor(Model::Vlp16)));

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Real captures (wire-formats.md §6): our decoders read them without error, and an emulated
+// Real captures (docs/wire-formats.md §6): our decoders read them without error, and an emulated
 // sensor configured like the captured one produces the same packet statistics.
 #include <gtest/gtest.h>
 
@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "mirage/pcap/pcap.hpp"
-#include "velodyne_capture_stats.hpp"
-#include "velodyne_frames.hpp"
 #include "mirage/velodyne/packetizer.hpp"
 #include "test_paths.hpp"
+#include "velodyne_capture_stats.hpp"
+#include "velodyne_frames.hpp"
 #include "velodyne_test_util.hpp"
 
 namespace mirage::velodyne {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Model descriptors against the spec (wire-formats.md §1.3–§1.7) and the sensor presets.
+// Model descriptors against the spec (docs/wire-formats.md §1.3–§1.7) and the sensor presets.
 #include "mirage/velodyne/model.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Position packets (wire-formats.md §1.9): $GPRMC, layouts, rate.
+// Position packets (docs/wire-formats.md §1.9): $GPRMC, layouts, rate.
 #include <gtest/gtest.h>
 
 #include "mirage/velodyne/packetizer.hpp"
@@ -11,7 +11,7 @@ namespace mirage::velodyne {
 namespace {
 
 TEST(VelodynePosition, gprmc_checksum_of_a_known_sentence) {
-    // The HDL-32E capture's sentence (wire-formats.md §6).
+    // The HDL-32E capture's sentence (docs/wire-formats.md §6).
     const std::string s =
         "$GPRMC,220243,A,3708.5809,N,12139.7813,W,028.8,158.3,111212,013.8,E,D*03";
     EXPECT_EQ(nmea_checksum(s), 0x03);

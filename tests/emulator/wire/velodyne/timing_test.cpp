@@ -28,7 +28,7 @@ std::vector<test::CollectedPacket> empty_stream(const ModelDescriptor& md, Retur
 }
 
 TEST(VelodyneTiming, packet_rates_match_the_spec_table) {
-    // wire-formats.md §1.4: packets/s single (dual).
+    // docs/wire-formats.md §1.4: packets/s single (dual).
     EXPECT_NEAR(descriptor(Model::Vlp16).packets_per_second(ReturnMode::Strongest), 753.5, 0.6);
     EXPECT_NEAR(descriptor(Model::Vlp16).packets_per_second(ReturnMode::Dual), 1507.0, 1.2);
     EXPECT_NEAR(descriptor(Model::Vlp32c).packets_per_second(ReturnMode::Strongest), 1507.0, 1.0);

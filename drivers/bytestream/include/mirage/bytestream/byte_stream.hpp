@@ -44,7 +44,7 @@ class ByteStream {
     virtual std::uint16_t local_port() const { return 0; }
 };
 
-// Transport URIs (README "Navigation input"):
+// Transport URIs (docs/live-navigation.md §2):
 //   /dev/ttyUSB0?baud=115200[&bits=8&parity=none&stop=1]   serial port or pty (raw mode)
 //   serial:/dev/ttyUSB0?baud=…                             same
 //   tcp://host:port                                        TCP client

@@ -73,12 +73,12 @@ class CanBus {
     virtual std::string name() const = 0;
 };
 
-// Opens a bus from a spec (see README "CAN buses"):
+// Opens a bus from a spec (docs/live-navigation.md §2):
 //   socketcan:<ifname>
 //   slcan:<serial device>[?baud=115200&bitrate=500000]
 //   gsusb:<vid>:<pid>[?bitrate=500000&serial=<usb serial>]
-//   memory:<name>          (in-process; every bus opened with the same name sees the others' frames)
-//   slcan also takes `listen` (open listen-only); gsusb also `channel=<n>` and `listen`.
+//   memory:<name>          (in-process; every bus opened with the same name sees the others'
+//   frames) slcan also takes `listen` (open listen-only); gsusb also `channel=<n>` and `listen`.
 // Throws ConfigError on a malformed spec, IoError when the device cannot be opened.
 std::unique_ptr<CanBus> open_can_bus(const std::string& spec);
 

@@ -13,10 +13,10 @@ class ByteStream;
 namespace mirage::can {
 
 struct SlcanOptions {
-    std::string device;             // serial port or pty path
-    std::uint32_t baud = 115'200;   // serial line speed (USB-CDC adapters ignore it)
-    std::uint32_t bitrate = 500'000;  // CAN bitrate -> `Sn` (nav-protocols.md §9)
-    bool listen_only = false;       // `L` instead of `O`
+    std::string device;               // serial port or pty path
+    std::uint32_t baud = 115'200;     // serial line speed (USB-CDC adapters ignore it)
+    std::uint32_t bitrate = 500'000;  // CAN bitrate -> `Sn` (docs/nav-protocols.md §9)
+    bool listen_only = false;         // `L` instead of `O`
 };
 
 // slcan (Lawicel ASCII) over a serial line, like `slcand -o -c -s<n>`: at open it sends

@@ -51,7 +51,7 @@ struct AppliedMessage {
 // Reads one navigation source on its own thread: transport -> decoder -> navpose::NavMapper
 // (scene frame and rejection rules) -> pose buffer. Every decoded sample is numbered and
 // stamped with its arrival (MessageTag). Tracks the offset between INS time and the host's
-// CLOCK_MONOTONIC as the lower envelope of (arrival − INS time) (nav-protocols.md §12.3
+// CLOCK_MONOTONIC as the lower envelope of (arrival − INS time) (docs/nav-protocols.md §12.3
 // item 3).
 class NavInput {
   public:

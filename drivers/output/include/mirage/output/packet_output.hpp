@@ -25,7 +25,8 @@ struct PacketOutputOptions {
     // > 0: the thread that sends (the render's writer thread) switches to SCHED_FIFO at this
     // priority on its first packet, so a busy core cannot delay its wake-ups; render workers,
     // created before, keep the normal policy. (The spin before each deadline stays at the
-    // Pacer's 50 µs: timer wake-ups in this VM take ~50 µs even for FIFO threads.)
+    // Pacer's 50 µs: on virtual machines timer wake-ups are late by tens of µs even for FIFO
+    // threads; docs/benchmarks.md §2.)
     int fifo_priority = 0;
     // Realtime UDP output through one deadline-ordered sending thread (udp::SharedSender) instead
     // of pacing in the calling thread: the caller then only waits while it is more than the

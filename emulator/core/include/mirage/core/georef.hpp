@@ -10,7 +10,7 @@ namespace mirage::core {
 // Georeference of a scene: a double-precision anchor in a projected or geocentric CRS (EPSG).
 // Geometry and poses are float32/double *relative to the anchor* ("local" frame, metres,
 // x = grid east, y = grid north, z = up), which keeps float32 geometry within ~1 km of zero
-// however large the projected coordinates are (physics.md §4.8).
+// however large the projected coordinates are (docs/physics.md §4.8).
 // A geodetic anchor (lat/lon/h) is converted once to its UTM zone (EPSG 326xx/327xx, with the
 // Norway/Svalbard exceptions; UPS 32661/32761 beyond 84°N / 80°S) unless an EPSG code is given.
 // Heights stay ellipsoidal (WGS84, EPSG:4979) for 2-D projected CRSs.

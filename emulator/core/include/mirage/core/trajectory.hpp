@@ -39,7 +39,7 @@ class Trajectory {
     std::vector<Eigen::Vector3d> tangents_;  // Cubic only: dp/dt at each sample, m/s
 };
 
-// CSV trajectory (see README "Trajectory CSV"): a header row naming columns, then one row per
+// CSV trajectory (docs/file-formats.md §3): a header row naming columns, then one row per
 // sample. Time: `time` (GPS seconds, decimal, parsed exactly to ns) or `utc` (ISO 8601).
 // Position: `x,y,z` (local metres), `e,n,u` (projected, minus the anchor), or `lat,lon,h`
 // (WGS84 degrees / m, through the scene georeference). Attitude: `roll,pitch,yaw` in degrees

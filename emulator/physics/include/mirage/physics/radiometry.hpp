@@ -24,18 +24,18 @@ double photon_energy_j(double wavelength_m);
 // Beer–Lambert atmosphere with a constant extinction coefficient α (m⁻¹).
 struct Atmosphere {
     double extinction_per_m = 0.0;
-    // Kim/Kruse visibility model (physics.md §3.2): α = (3.91/V)·(λ/0.55 µm)^(−q) with V in km,
-    // λ in µm, q = 1.6 (V > 50 km), 1.3 (6–50 km), 0.585·V^(1/3) (< 6 km). Returns m⁻¹.
-    // Inputs are SI (m) and converted here, the one boundary. Test vector: 1064 nm, 23 km →
-    // 0.0721 km⁻¹ = 7.21e-5 m⁻¹ (two-way transmission over 1 km 0.866).
-    // Throws ConfigError unless both inputs are finite and > 0.
+    // Kim/Kruse visibility model (docs/physics.md §3.2): α = (3.91/V)·(λ/0.55 µm)^(−q) with V in
+    // km, λ in µm, q = 1.6 (V > 50 km), 1.3 (6–50 km), 0.585·V^(1/3) (< 6 km). Returns m⁻¹. Inputs
+    // are SI (m) and converted here, the one boundary. Test vector: 1064 nm, 23 km → 0.0721 km⁻¹
+    // = 7.21e-5 m⁻¹ (two-way transmission over 1 km 0.866). Throws ConfigError unless both inputs
+    // are finite and > 0.
     static double extinction_from_visibility(double visibility_m, double wavelength_m);
     double one_way(double range_m) const {
         return std::exp(-extinction_per_m * range_m);
     }  // τ(R) = exp(−αR); monostatic two-way is τ(R)²
 };
 
-// Sun as the "other" source of seed 001 eqs. 6–10.
+// Sun as the "other" source of docs/physics.md eqs. (6)–(10).
 struct Sun {
     double elevation_rad = -1.0;  // below 0: night, no background
     double azimuth_rad = 0.0;     // clockwise from north
@@ -76,15 +76,15 @@ inline double monostatic_brdf(const scene::Material& m, double cos_incidence) {
     return f;
 }
 
-// Seed 001 eq. 2 in SI: irradiance over the spot, normal to the beam, W/m²:
-// E = P·τ / (π·R²·tan²(β/2)), β the full divergence. Uses power, not spectral power: the laser
-// band is narrow, so eq. 5's integral over it collapses to the in-band power.
-// Check value (physics.md §1.0): P = 1 W, τ = 1, β = 3 mrad, R = 100 m → 14.147 W/m²
+// docs/physics.md eq. (2) in SI: irradiance over the spot, normal to the beam, W/m²:
+// E = P·τ / (π·R²·tan²(β/2)), β the full divergence. Uses power, not spectral power: eq. 5's
+// integral over the laser band is the in-band power times the filter's share (eq. M0).
+// Check value (docs/physics.md §1.0): P = 1 W, τ = 1, β = 3 mrad, R = 100 m → 14.147 W/m²
 // (the seed's 1.4147e-3 W/cm²). Returns 0 for R ≤ 0.
 double laser_irradiance_w_m2(double power_w, double tau, double divergence_rad, double range_m);
 
-// Seed 001 eq. 1, monostatic, in the corrected form of physics.md §1.1 (a target re-radiating
-// E·Γ/(4π) W/sr into a receiver of area π·D²/4):
+// docs/physics.md eq. (1), monostatic, in the corrected form of docs/physics.md §1.1 (a target
+// re-radiating E·Γ/(4π) W/sr into a receiver of area π·D²/4):
 //     P_r = K·P_s·η_t·η_r·τ²·Γ·D² / (4π·β²·R⁴)
 // (the seed prints 4 × this). With a fixed Γ (target smaller than the beam) it falls as 1/R⁴.
 double range_equation_eq1_w(double peak_power_w, double range_m, double cross_section_m2,
@@ -102,7 +102,7 @@ double range_equation_eq1_w(double peak_power_w, double range_m, double cross_se
 double lambertian_cross_section_m2(double reflectance, double cos_incidence, double range_m,
                                    double divergence_rad);
 
-// Seed 001 eqs. 2–13 in SI (converted at this one boundary; the seed writes cm and µm).
+// docs/physics.md eqs. (2)–(13) in SI (converted at this one boundary; the paper writes cm and µm).
 // Precomputes the constants of one sensor in one environment; all methods are const and
 // thread-safe. Regime: the receiver collects L·A_r·min(Ω_pix, Ω_spot), which is eq. 4 when the
 // spot over-fills the pixel IFOV and the under-fill form otherwise, so both fall as 1/R² on an
@@ -127,7 +127,7 @@ double lambertian_cross_section_m2(double reflectance, double cos_incidence, dou
 //                    [ brdf_d·E_sun·max(0, cos θ₂)·τ(R) + L_path ]
 //          E_sun W/(m²·µm), L_path W/(m²·sr·µm); the sun term only when Sun::up().
 //   τ_int  = ReceiverParams::integration_time_s, or the pulse width when that is 0.
-//   eq. 12 (first, dimensionally correct form, physics.md §1.4), δE = σ₁·z, z ~ N(0, 1):
+//   eq. 12 (first, dimensionally correct form, docs/physics.md §1.4), δE = σ₁·z, z ~ N(0, 1):
 //          ΔN = sqrt((a·z)² + N_laser + N_other),
 //          a  = noise_floor_e_ = τ_int·σ₁·λ·Δλ_det[µm]·A_pix·QE/(h·c),
 //          σ₁ = ReceiverParams::noise_irradiance_sigma in W/(m²·µm) (the seed's W/(cm²·µm)

@@ -18,7 +18,7 @@ struct EmbreeOptions {
     bool robust = false;   // RTC_SCENE_FLAG_ROBUST (watertight)
     bool compact = false;  // RTC_SCENE_FLAG_COMPACT
     // Extra rtcNewDevice settings. Empty = automatic: "max_isa=avx2" for TraceApi::Single
-    // (physics.md §4.3: single rays are 10–15 % faster with AVX2 kernels than AVX-512), Embree's
+    // (docs/physics.md §4.3: single rays ran faster with AVX2 kernels than AVX-512), Embree's
     // default otherwise. Build tasking is always Embree's default (all cores).
     std::string device_config;
 };

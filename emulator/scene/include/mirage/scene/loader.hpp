@@ -7,7 +7,7 @@
 
 namespace mirage::scene {
 
-// Loads a scene YAML (README "Scene file"). Relative mesh/raster paths resolve against the
+// Loads a scene YAML (docs/file-formats.md §1). Relative mesh/raster paths resolve against the
 // YAML's folder. Throws ConfigError naming the file and the key path or line on any problem:
 // unknown keys, missing files, malformed OBJ/PLY, NaN/Inf coordinates. Degenerate triangles are
 // dropped and counted in Scene::stats.

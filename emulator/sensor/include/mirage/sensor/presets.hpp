@@ -10,7 +10,7 @@ namespace mirage::sensor {
 // focal length F#·D, pixel diameter IFOV·F#·D.
 double detector_area_for_ifov(double ifov_rad, double aperture_diameter_m, double f_number);
 
-// σ₁ (W/(m²·µm)) that makes the detector noise floor of physics.md eq. 12 equal `electrons`:
+// σ₁ (W/(m²·µm)) that makes the detector noise floor of docs/physics.md eq. (12) equal `electrons`:
 // floor = τ_int·σ₁·λ_mid·Δλ_det[µm]·A_pix·η/(h·c), τ_int = pulse width when unset.
 double noise_sigma_for_floor(double electrons, const BeamParams& beam, const ReceiverParams& rx);
 

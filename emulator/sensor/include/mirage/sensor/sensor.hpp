@@ -26,7 +26,7 @@ struct BeamParams {
 // The most returns a pulse reports (the renderer separates at most this many surfaces).
 inline constexpr int kMaxReturns = 8;
 
-// Receiver and detector (seed 001 eqs. 4–13).
+// Receiver and detector (docs/physics.md eqs. (4)–(13)).
 struct ReceiverParams {
     double aperture_diameter_m = 0.025;
     double f_number = 1.0;
@@ -41,10 +41,10 @@ struct ReceiverParams {
     double min_range_m = 0.5;
     double max_range_m = 120.0;
     double range_resolution_m = 0.0;  // output quantisation (0 = none)
-    int max_returns = 1;              // returns per pulse kept (strongest first when 1), ≤ kMaxReturns
+    int max_returns = 1;  // returns per pulse kept (strongest first when 1), ≤ kMaxReturns
 };
 
-// Measurement noise (seed 001 eqs. 14–15).
+// Measurement noise (docs/physics.md eqs. (14)–(15)).
 struct NoiseParams {
     double range_sigma_m = 0;     // δR
     double jitter_sigma_rad = 0;  // δxy, per axis
@@ -109,8 +109,8 @@ SensorModel load_sensor_yaml(const std::string& path);  // throws ConfigError wi
 SensorModel resolve_sensor(const std::string& spec);
 
 // Effective configuration, one value per line, plus a per-channel table that repeats the beam and
-// receiver values each channel uses (physics.md §3.5: overrides must reach every channel). Printed
-// by the CLI at start-up.
+// receiver values each channel uses (docs/physics.md §3.5: overrides must reach every channel).
+// Printed by the CLI at start-up.
 std::string describe(const SensorModel& model);
 
 // Footprint sampling of the divergence cone: angular offsets (rad, about two axes orthogonal

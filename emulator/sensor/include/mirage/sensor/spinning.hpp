@@ -7,7 +7,7 @@
 
 namespace mirage::sensor {
 
-// One laser of a spinning multi-beam sensor (wire-formats.md §1.7 / §2.7).
+// One laser of a spinning multi-beam sensor (docs/wire-formats.md §1.7 / §2.7).
 struct LaserSpec {
     double elevation_deg = 0;
     double azimuth_offset_deg = 0;  // added to the rotor azimuth (clockwise), = −rot_correction

@@ -8,7 +8,7 @@
 
 #include "mirage/nav/can_frame.hpp"
 
-// candump -L log lines (nav-protocols.md §8; can-utils lib.h parse_canframe / canplayer):
+// candump -L log lines (docs/nav-protocols.md §8; can-utils lib.h parse_canframe / canplayer):
 // `(<sec>.<usec>) <iface> <frame>`, e.g. `(1700000000.000000) vcan0 601#081EAE1C184FDD06`.
 // Timestamps are Unix time; exactly 6 (µs) or 9 (ns) fractional digits, as canplayer demands.
 // Frames: 3 hex digits = 11-bit ID, 8 = 29-bit ID; 8 digits with CAN_ERR_FLAG (0x20000000) =

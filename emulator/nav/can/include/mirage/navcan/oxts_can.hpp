@@ -7,7 +7,7 @@
 #include "mirage/nav/decode_counters.hpp"
 #include "mirage/nav/nav_sample.hpp"
 
-// OxTS RT CAN navigation messages (nav-protocols.md §7.1; Intel byte order, GPS time).
+// OxTS RT CAN navigation messages (docs/nav-protocols.md §7.1; Intel byte order, GPS time).
 // Mapping to NavSample: 0x600 DateTime is a GPS-scale calendar time, 0x630 MilliTime is ms
 // since the GPS epoch (preferred when both arrive: 1 ms vs 10 ms); 0x602 altitude is MSL by
 // default, so samples carry kHeightIsMsl unless `altitude_is_ellipsoidal`; 0x603 velocity is

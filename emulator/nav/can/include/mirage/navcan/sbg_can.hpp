@@ -8,7 +8,7 @@
 #include "mirage/nav/decode_counters.hpp"
 #include "mirage/nav/nav_sample.hpp"
 
-// SBG Systems CAN output (nav-protocols.md §7.2, sbgCan.dbc; Intel byte order).
+// SBG Systems CAN output (docs/nav-protocols.md §7.2, sbgCan.dbc; Intel byte order).
 // Mapping to NavSample: EKF_EULER yaw ±π -> heading [0, 2π) (EKF_QUAT, Q0 = w, body->NED, is
 // used when no EKF_EULER came); EKF_ALTITUDE is MSL + undulation -> ellipsoidal height
 // (ALTITUDE + UNDULATION, no kHeightIsMsl); EKF_VEL_NED is already N, E, D. Time: frames carry

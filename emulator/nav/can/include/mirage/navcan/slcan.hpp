@@ -9,7 +9,7 @@
 
 #include "mirage/nav/can_frame.hpp"
 
-// slcan / Lawicel ASCII line codec (nav-protocols.md §9). Pure: no serial port here; the slcan
+// slcan / Lawicel ASCII line codec (docs/nav-protocols.md §9). Pure: no serial port here; the slcan
 // CanBus backend (drivers/can) writes slcan_encode()/slcan_command_text() to its line and feeds
 // what it reads to an SlcanParser. The same parser reads either direction of the line (host ->
 // adapter commands and frames, adapter -> host frames and replies).

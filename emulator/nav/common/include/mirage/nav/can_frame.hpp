@@ -5,13 +5,13 @@
 
 namespace mirage::nav {
 
-// One classic CAN 2.0 frame (INS CAN outputs never use CAN FD: nav-protocols.md §7.3).
+// One classic CAN 2.0 frame (INS CAN outputs never use CAN FD: docs/nav-protocols.md §7.3).
 struct CanFrame {
-    std::uint32_t id = 0;    // 11-bit or 29-bit identifier, without flag bits
-    bool extended = false;   // 29-bit identifier
-    bool rtr = false;        // remote transmission request
-    bool error = false;      // error frame (id holds the SocketCAN CAN_ERR_* class bits)
-    std::uint8_t len = 0;    // 0..8 data bytes
+    std::uint32_t id = 0;   // 11-bit or 29-bit identifier, without flag bits
+    bool extended = false;  // 29-bit identifier
+    bool rtr = false;       // remote transmission request
+    bool error = false;     // error frame (id holds the SocketCAN CAN_ERR_* class bits)
+    std::uint8_t len = 0;   // 0..8 data bytes
     std::array<std::uint8_t, 8> data{};
 
     friend bool operator==(const CanFrame&, const CanFrame&) = default;

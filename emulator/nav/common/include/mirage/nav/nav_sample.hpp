@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
-
-#include <Eigen/Core>
 
 #include "mirage/core/time.hpp"
 
@@ -26,7 +25,7 @@ enum class FixQuality : std::uint8_t {
 
 // A navigation solution as one message (or one group of frames) reports it, in the
 // protocol-neutral form every codec produces and every encoder consumes. Conventions are fixed
-// here so each codec maps its own explicitly (nav-protocols.md "conventions that bite"):
+// here so each codec maps its own explicitly (docs/nav-protocols.md §0):
 //  - time: GPS time scale, integer ns since the GPS epoch (UTC sources converted with the
 //    leap-second table of mirage::core);
 //  - position: WGS84 latitude/longitude in degrees, height above the ellipsoid in metres

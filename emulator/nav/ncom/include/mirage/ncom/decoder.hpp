@@ -24,7 +24,7 @@ struct DecoderOptions {
     bool altitude_is_msl = false;
 };
 
-// NCOM decoder (nav-protocols.md §3). Mapping to NavSample: lat/lon radians -> degrees,
+// NCOM decoder (docs/nav-protocols.md §3). Mapping to NavSample: lat/lon radians -> degrees,
 // velocity NED as is, heading/pitch/roll × 1e-6 rad (heading wrapped to [0, 2π)), accel/rates
 // vehicle frame (x fwd, y right, z down = FRD) -> kAcceleration / kAngularRate; a group with
 // any 0x800000 component is left out. Time = channel-0 GPS minutes × 60 s + bytes 1-2 ms; the

@@ -9,7 +9,7 @@
 namespace mirage::nmea {
 
 // Formatting choices and the fields a NavSample does not carry. Defaults match a modern
-// high-precision receiver/INS; the test vectors of nav-protocols.md §1 are reproduced by
+// high-precision receiver/INS; the test vectors of docs/nav-protocols.md §1 are reproduced by
 // changing them (e.g. 3 minute decimals and integer seconds for the 1990s GGA example).
 struct EncodeOptions {
     std::string talker = "GP";

@@ -8,7 +8,7 @@
 
 namespace mirage::nmea {
 
-// NMEA 0183 sentence layer (nav-protocols.md §1): `$` tag `,` fields `*hh` CR LF.
+// NMEA 0183 sentence layer (docs/nav-protocols.md §1): `$` tag `,` fields `*hh` CR LF.
 
 // Longest sentence accepted, counting `$` and CR LF. The standard says 82; INS high-precision
 // GGA exceeds it, so we accept up to 120 (§1).

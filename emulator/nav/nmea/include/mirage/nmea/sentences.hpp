@@ -8,7 +8,7 @@
 
 namespace mirage::nmea {
 
-// Typed contents of the decoded sentence types (nav-protocols.md §1). Empty fields (no data)
+// Typed contents of the decoded sentence types (docs/nav-protocols.md §1). Empty fields (no data)
 // are nullopt; present fields are validated (finite, in range).
 
 enum class ParseStatus : std::uint8_t {

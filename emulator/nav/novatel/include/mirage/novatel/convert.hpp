@@ -20,7 +20,7 @@ bool ins_status_has_solution(std::uint32_t ins_status);
 std::uint32_t position_type_for(nav::FixQuality q);
 std::uint32_t ins_status_for(nav::FixQuality q);
 
-// Log -> NavSample. Mapping (nav-protocols.md §2.3, NovAtel INSPVA doc):
+// Log -> NavSample. Mapping (docs/nav-protocols.md §2.3, NovAtel INSPVA doc):
 //  - height: MSL + undulation -> ellipsoidal (BESTPOS, INSPVAX); INSPVA(S) already ellipsoidal;
 //  - velocity north/east/up -> NED (down = -up);
 //  - azimuth (clockwise from north) -> heading in [0, 2π);

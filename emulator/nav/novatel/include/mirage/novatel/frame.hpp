@@ -19,7 +19,7 @@ inline constexpr std::size_t kCrcSize = 4;
 // u16 lengths, the logs we read are < 200 bytes).
 inline constexpr std::size_t kMaxBodyLength = 4096;
 
-// Long (28-byte) header, nav-protocols.md §2.1. body_length is filled by frame_long().
+// Long (28-byte) header, docs/nav-protocols.md §2.1. body_length is filled by frame_long().
 struct LongHeader {
     std::uint8_t header_length = static_cast<std::uint8_t>(kLongHeaderSize);
     std::uint16_t message_id = 0;

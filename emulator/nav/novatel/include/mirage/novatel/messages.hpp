@@ -8,7 +8,7 @@
 
 namespace mirage::novatel {
 
-// Message IDs (nav-protocols.md §2.1).
+// Message IDs (docs/nav-protocols.md §2.1).
 inline constexpr std::uint16_t kBestPosId = 42;
 inline constexpr std::uint16_t kInsPvaId = 507;   // long header, same body as INSPVAS
 inline constexpr std::uint16_t kInsPvaSId = 508;  // short header

@@ -41,7 +41,7 @@ struct OusterPoint {
 
 // Stateful decoder of one sensor's streams: status counts, measurement-ID gap tracking across
 // packets (a dropped packet shows as a gap; a new frame ID must continue where the last ended),
-// and XYZ per wire-formats.md §2.8. Never throws after construction.
+// and XYZ per docs/wire-formats.md §2.8. Never throws after construction.
 class Decoder {
   public:
     explicit Decoder(Descriptor d);

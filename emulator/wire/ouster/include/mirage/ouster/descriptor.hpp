@@ -15,7 +15,7 @@ namespace mirage::ouster {
 
 enum class ProductLine : std::uint8_t { OS0, OS1, OS2 };
 
-// udp_profile_lidar (wire-formats.md §2.2).
+// udp_profile_lidar (docs/wire-formats.md §2.2).
 enum class Profile : std::uint8_t {
     Legacy,               // "LEGACY": no packet header/footer, 16-byte column header + status
     Rng19Rfl8Sig16Nir16,  // "RNG19_RFL8_SIG16_NIR16": 12-byte pixels, 1 mm range

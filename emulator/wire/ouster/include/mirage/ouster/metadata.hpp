@@ -7,7 +7,7 @@
 
 namespace mirage::ouster {
 
-// The JSON shapes of wire-formats.md §2.7.
+// The JSON shapes of docs/wire-formats.md §2.7.
 enum class MetadataShape : std::uint8_t {
     Nested,  // FW ≥ 2.4 / 3.x: sensor_info, beam_intrinsics, lidar_data_format, config_params …
     Fw2Flat,  // FW 2.x flat: the key set of os2_128_rng19.json

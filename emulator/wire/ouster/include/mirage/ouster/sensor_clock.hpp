@@ -7,7 +7,7 @@
 
 namespace mirage::ouster {
 
-// config_params.timestamp_mode (wire-formats.md §2.9, nav-protocols.md).
+// config_params.timestamp_mode (docs/wire-formats.md §2.9, docs/nav-protocols.md).
 enum class TimestampMode : std::uint8_t {
     InternalOsc,  // "TIME_FROM_INTERNAL_OSC": ns since power-on
     SyncPulseIn,  // "TIME_FROM_SYNC_PULSE_IN" with a GPS/NMEA source: UTC ns since 1970

@@ -8,7 +8,7 @@
 
 namespace mirage::velodyne {
 
-// wire-formats.md §1.2: 12 blocks × (flag, azimuth, 32 × (distance, reflectivity)), timestamp,
+// docs/wire-formats.md §1.2: 12 blocks × (flag, azimuth, 32 × (distance, reflectivity)), timestamp,
 // two factory bytes. Little-endian.
 inline constexpr std::size_t kDataPacketSize = 1206;
 inline constexpr int kBlocksPerPacket = 12;

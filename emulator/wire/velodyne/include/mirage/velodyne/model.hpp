@@ -8,7 +8,7 @@
 
 namespace mirage::velodyne {
 
-// Velodyne 1206-byte-data-packet models (wire-formats.md §1.2–§1.7).
+// Velodyne 1206-byte-data-packet models (docs/wire-formats.md §1.2–§1.7).
 enum class Model : std::uint8_t { Vlp16, Vlp16HiRes, Vlp32c, Hdl32e, Hdl64eS3 };
 inline constexpr Model kAllModels[] = {Model::Vlp16, Model::Vlp16HiRes, Model::Vlp32c,
                                        Model::Hdl32e, Model::Hdl64eS3};

@@ -11,7 +11,7 @@
 
 namespace mirage::velodyne {
 
-// wire-formats.md §1.1 / §1.9.
+// docs/wire-formats.md §1.1 / §1.9.
 inline constexpr std::size_t kPositionPacketSize = 512;
 inline constexpr std::uint16_t kDataPort = 2368;
 inline constexpr std::uint16_t kPositionPort = 8308;

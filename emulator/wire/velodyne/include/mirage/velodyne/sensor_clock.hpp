@@ -6,7 +6,7 @@
 
 namespace mirage::velodyne {
 
-// The device clock: Velodyne timestamps count µs past the top of the UTC hour (wire-formats.md
+// The device clock: Velodyne timestamps count µs past the top of the UTC hour (docs/wire-formats.md
 // §1.2, §1.9) and wrap at 3 600 000 000.
 inline constexpr std::uint32_t kMicrosPerHour = 3'600'000'000u;
 
