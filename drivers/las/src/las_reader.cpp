@@ -92,6 +92,10 @@ LasFile LasFile::read(const std::string& path) {
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                     std::istreambuf_iterator<char>());
     if (in.bad()) throw IoError("las reader '" + path + "': read error");
+    return from_bytes(bytes);
+}
+
+LasFile LasFile::from_bytes(const std::vector<std::uint8_t>& bytes) {
     LasFile f;
     f.parse(bytes);
     return f;

@@ -52,6 +52,21 @@ TEST(LasReader, valid_file_has_no_problems) {
     EXPECT_TRUE(problems_of(dir, bytes).empty());
 }
 
+// The in-memory entry point (fuzz_las) decodes the bytes exactly as read() decodes the file.
+TEST(LasReader, from_bytes_reads_like_the_file) {
+    TempDir dir;
+    auto bytes = valid_file(dir, 7);
+    bytes.resize(bytes.size() - 40);
+    const LasFile mem = LasFile::from_bytes(bytes);
+    test::write_bytes(dir.file("cut.las"), bytes);
+    const LasFile file = LasFile::read(dir.file("cut.las"));
+    EXPECT_EQ(mem.file_size(), bytes.size());
+    EXPECT_EQ(mem.records_in_file(), 98u);
+    ASSERT_EQ(mem.points().size(), file.points().size());
+    EXPECT_EQ(mem.points()[97].raw_x, file.points()[97].raw_x);
+    EXPECT_EQ(mem.validate(), file.validate());
+}
+
 TEST(LasReader, truncated_file_reports_missing_records_and_the_cut_one) {
     TempDir dir;
     auto bytes = valid_file(dir, 6);
