@@ -49,10 +49,6 @@ inline void orthonormal_basis(const Eigen::Vector3d& d, Eigen::Vector3d& u, Eige
     v = d.cross(u);
 }
 
-inline Eigen::Vector3d unit(const Eigen::Vector3d& x) {
-    return x * (1.0 / std::sqrt(x.squaredNorm()));
-}
-
 // Pulses of a chunk in firing order, their sensor poses, and the rays traced for them.
 struct ChunkGeometry {
     std::vector<sensor::PulseSpec> specs;
