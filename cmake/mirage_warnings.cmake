@@ -15,6 +15,13 @@ function(mirage_set_warnings target)
   if(MIRAGE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
+  if(MIRAGE_FUZZ)
+    # Coverage for libFuzzer in every Mirage target (libraries included), ASan + UBSan; a UB
+    # report aborts so libFuzzer saves the input. Fuzz executables add -fsanitize=fuzzer.
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link,address,undefined
+                                             -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  endif()
   if(MIRAGE_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer
                                              -fno-sanitize-recover=undefined)
