@@ -4,7 +4,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: demo test build deps asan fuzz bench format clean
+.PHONY: demo test build deps asan fuzz fuzz-seeds bench format clean
 
 deps:
 	@scripts/install-deps
@@ -21,22 +21,27 @@ test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE 'bench|asan'
 	cd $(BUILD) && ctest --output-on-failure -L bench
 
-# Unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (generic x86-64 code: g++ 12's
-# -O2 inlining of Eigen's AVX-512 paths raises a false maybe-uninitialized warning).
+# Unit and loopback tests under AddressSanitizer + UndefinedBehaviorSanitizer (generic x86-64 code:
+# g++ 12's -O2 inlining of Eigen's AVX-512 paths raises a false maybe-uninitialized warning).
 asan: deps
 	cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMIRAGE_SANITIZE=ON -DMIRAGE_NATIVE=OFF $(CMAKE_FLAGS)
 	cmake --build build-asan -j $(JOBS)
-	cd build-asan && ctest --output-on-failure -j $(JOBS) -L unit
+	cd build-asan && ctest --output-on-failure -j $(JOBS) -L 'unit|loopback'
 
-# libFuzzer (Clang) on the packet and navigation decoders under ASan+UBSan, FUZZ_SECONDS each, with a corpus
-# kept in build-fuzz/corpus.
+# libFuzzer (Clang) under ASan+UBSan on every parser of outside bytes: only the fuzz targets and
+# the libraries they link are built (coverage-instrumented, -DMIRAGE_FUZZ=ON); each runs
+# FUZZ_SECONDS from its committed seed corpus (scripts/run-fuzz; table in build-fuzz/fuzz-report.md).
 FUZZ_SECONDS ?= 30
-FUZZ_TARGETS = fuzz_velodyne_decode fuzz_ouster_decode fuzz_nmea fuzz_novatel fuzz_ncom \
-               fuzz_navcan fuzz_slcan_bus fuzz_gsusb
 fuzz: deps
-	CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
-	cmake --build build-fuzz -j $(JOBS) --target $(FUZZ_TARGETS)
-	FUZZ_TARGETS="$(FUZZ_TARGETS)" scripts/run-fuzz build-fuzz $(FUZZ_SECONDS)
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMIRAGE_FUZZ=ON $(CMAKE_FLAGS)
+	cmake --build build-fuzz -j $(JOBS) --target mirage_fuzz
+	scripts/run-fuzz build-fuzz $(FUZZ_SECONDS)
+
+# Rewrites the generated fuzz seeds (gen_*) in the source tree from Mirage's encoders.
+fuzz-seeds: deps
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j $(JOBS) --target mirage_fuzz_seed_gen
+	$(BUILD)/tests/mirage_fuzz_seed_gen .
 
 bench: build
 	$(BUILD)/hil/mirage bench

@@ -92,6 +92,10 @@ LasFile LasFile::read(const std::string& path) {
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                     std::istreambuf_iterator<char>());
     if (in.bad()) throw IoError("las reader '" + path + "': read error");
+    return from_bytes(bytes);
+}
+
+LasFile LasFile::from_bytes(const std::vector<std::uint8_t>& bytes) {
     LasFile f;
     f.parse(bytes);
     return f;
@@ -106,7 +110,8 @@ void LasFile::parse(const std::vector<std::uint8_t>& bytes) {
     const std::uint8_t* d = bytes.data();
     LasHeaderInfo& h = header_;
 
-    std::memcpy(h.signature, d, std::min<std::uint64_t>(n, 4));
+    // An empty file has no data() pointer, which memcpy must not get even for 0 bytes (fuzz_las).
+    if (n > 0) std::memcpy(h.signature, d, std::min<std::uint64_t>(n, 4));
     if (n < 4 || std::memcmp(d, "LASF", 4) != 0) {
         problem(fmt::format("bad signature '{}' (expected 'LASF')",
                             printable(h.signature, std::min<std::uint64_t>(n, 4))));

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
 
 #include "frame_parser.hpp"
@@ -164,6 +165,8 @@ void Reader::set_filter(const std::string& expression) {
 }
 
 bool Reader::next(UdpDatagram& out) {
+    constexpr std::int64_t kMaxSeconds =
+        std::numeric_limits<std::int64_t>::max() / 1'000'000'000 - 1;
     auto count = [this](FrameStatus s, std::uint64_t n = 1) {
         counts_[static_cast<std::size_t>(s)] += n;
     };
@@ -187,6 +190,13 @@ bool Reader::next(UdpDatagram& out) {
             r.drain();
             count(FrameStatus::Fragment, r.take_abandoned());
             return false;
+        }
+        // pcapng stamps are 64-bit: one past 2262 (or before 1970) has no int64 ns and is
+        // counted as a damaged record instead of overflowing (fuzz_pcap_reader).
+        if (hdr->ts.tv_sec < 0 || hdr->ts.tv_sec > kMaxSeconds || hdr->ts.tv_usec < 0 ||
+            hdr->ts.tv_usec >= 1'000'000'000) {
+            count(FrameStatus::BadHeader);
+            continue;
         }
         const std::int64_t time_ns =
             static_cast<std::int64_t>(hdr->ts.tv_sec) * 1'000'000'000 + hdr->ts.tv_usec;

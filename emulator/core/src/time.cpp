@@ -186,6 +186,7 @@ std::string format_decimal_seconds(Nanos d) {
 }
 
 GpsTime parse_time(const std::string& text) {
+    constexpr int kMinYear = 1900, kMaxYear = 2200;
     std::string_view s = text;
     while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
     while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
@@ -222,6 +223,8 @@ GpsTime parse_time(const std::string& text) {
     const std::chrono::year_month_day ymd{year{y}, month{static_cast<unsigned>(mo)},
                                           day{static_cast<unsigned>(d)}};
     if (!ymd.ok()) bad_time(text, "no such date");
+    // Beyond these, ns since 1970 overflow 64 bits (fuzz_trajectory_csv found year 1012).
+    if (y < kMinYear || y > kMaxYear) bad_time(text, "year outside 1900..2200");
     if (h > 23 || mi > 59 || sec > 60) bad_time(text, "time of day out of range");
 
     const std::int64_t day_s =

@@ -10,6 +10,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <sstream>
 #include <string_view>
 
 #include "mirage/core/error.hpp"
@@ -59,11 +60,7 @@ class CsvReader {
   public:
     CsvReader(const std::string& path, const Georef& georef) : path_(path), georef_(georef) {}
 
-    std::vector<StampedPose> read() {
-        std::ifstream in(path_);
-        if (!in) {
-            throw IoError("trajectory '" + path_ + "': cannot open: " + std::strerror(errno));
-        }
+    std::vector<StampedPose> read(std::istream& in) {
         std::string raw;
         std::size_t line_no = 0;
         bool have_header = false;
@@ -257,7 +254,15 @@ void append_double(std::string& out, double v) {
 
 Trajectory load_trajectory_csv(const std::string& path, const Georef& georef,
                                Interpolation interp) {
-    return Trajectory(CsvReader(path, georef).read(), interp);
+    std::ifstream in(path);
+    if (!in) throw IoError("trajectory '" + path + "': cannot open: " + std::strerror(errno));
+    return Trajectory(CsvReader(path, georef).read(in), interp);
+}
+
+Trajectory parse_trajectory_csv(const std::string& text, const std::string& name,
+                                const Georef& georef, Interpolation interp) {
+    std::istringstream in(text);
+    return Trajectory(CsvReader(name, georef).read(in), interp);
 }
 
 void save_trajectory_csv(const std::string& path, const Trajectory& trajectory) {

@@ -40,7 +40,7 @@ void check_indices(const scene::Scene& scene, std::size_t m) {
 }  // namespace
 
 BruteForceRenderer::BruteForceRenderer(const scene::Scene& scene)
-    : scene_(scene), impl_(std::make_unique<Impl>()) {
+    : impl_(std::make_unique<Impl>()) {
     std::vector<bool> instanced(scene.meshes.size(), false);
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         if (scene.instances[i].mesh >= scene.meshes.size()) {

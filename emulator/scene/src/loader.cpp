@@ -104,14 +104,14 @@ std::string lower_ext(const fs::path& p) {
 
 class SceneLoader {
   public:
-    explicit SceneLoader(std::string path) : file_(std::move(path)) {
-        dir_ = fs::path(file_).parent_path();
-    }
+    // `file` names the scene in errors; relative mesh/raster paths resolve against `dir`.
+    SceneLoader(std::string file, fs::path dir) : file_(std::move(file)), dir_(std::move(dir)) {}
 
-    Scene run() {
+    // `text`: the YAML itself, or nullptr to read file_.
+    Scene run(const std::string* text) {
         YAML::Node root;
         try {
-            root = YAML::LoadFile(file_);
+            root = text ? YAML::Load(*text) : YAML::LoadFile(file_);
         } catch (const YAML::BadFile&) {
             throw ConfigError("scene '" + file_ + "': cannot open file");
         } catch (const YAML::ParserException& e) {
@@ -629,7 +629,14 @@ class SceneLoader {
 
 }  // namespace
 
-Scene load_scene(const std::string& path) { return SceneLoader(path).run(); }
+Scene load_scene(const std::string& path) {
+    return SceneLoader(path, fs::path(path).parent_path()).run(nullptr);
+}
+
+Scene load_scene_text(const std::string& yaml, const std::string& name,
+                      const std::filesystem::path& dir) {
+    return SceneLoader(name, dir).run(&yaml);
+}
 
 Scene resolve_scene(const std::string& spec) {
     if (spec == "demo") return make_demo_town();

@@ -41,11 +41,12 @@ class Reader {
         throw ConfigError("sensor '" + path_ + "': " + (key.empty() ? "" : key + ": ") + what);
     }
 
-    YAML::Node load() const {
-        if (!std::filesystem::is_regular_file(path_))
+    // `text`: the YAML itself, or nullptr to read the file.
+    YAML::Node load(const std::string* text) const {
+        if (!text && !std::filesystem::is_regular_file(path_))
             throw IoError("sensor '" + path_ + "': cannot open file");
         try {
-            return YAML::LoadFile(path_);
+            return text ? YAML::Load(*text) : YAML::LoadFile(path_);
         } catch (const YAML::BadFile&) {
             throw IoError("sensor '" + path_ + "': cannot open file");
         } catch (const YAML::ParserException& e) {
@@ -306,11 +307,10 @@ std::shared_ptr<const ScanPattern> read_airborne(const Reader& r, const YAML::No
     return make_airborne_pattern(c);
 }
 
-}  // namespace
-
-SensorModel load_sensor_yaml(const std::string& path) {
+// `path` labels errors and gives the default name; `text` as in Reader::load.
+SensorModel read_sensor(const std::string& path, const std::string* text) {
     const Reader r(path);
-    const YAML::Node root = r.load();
+    const YAML::Node root = r.load(text);
     if (!root.IsMap()) r.fail("", "expected a mapping with 'base' and/or sensor sections");
     r.only_keys(
         root, "",
@@ -358,6 +358,14 @@ SensorModel load_sensor_yaml(const std::string& path) {
         m.point_source_id = static_cast<std::uint16_t>(
             r.integer(root["point_source_id"], "point_source_id", 0, 65535));
     return m;
+}
+
+}  // namespace
+
+SensorModel load_sensor_yaml(const std::string& path) { return read_sensor(path, nullptr); }
+
+SensorModel load_sensor_yaml_text(const std::string& yaml, const std::string& name) {
+    return read_sensor(name, &yaml);
 }
 
 SensorModel resolve_sensor(const std::string& spec) {

@@ -140,7 +140,8 @@ TEST(PcapReaderExt, reads_pcapng_with_nanosecond_timestamps) {
     TempDir dir;
     const auto f1 = ethernet(0x0800, ipv4(17, udp(2368, 2368, pattern(100))));
     const auto f2 = ethernet(0x0800, ipv4(17, udp(8308, 8308, pattern(50, 3))));
-    write_pcapng(dir.file("a.pcapng"), {{1'700'000'000'123'456'789, f1}, {1'700'000'001'000'000'001, f2}});
+    write_pcapng(dir.file("a.pcapng"),
+                 {{1'700'000'000'123'456'789, f1}, {1'700'000'001'000'000'001, f2}});
     Reader r(dir.file("a.pcapng"));
     const auto v = read_all(r);
     ASSERT_EQ(v.size(), 2u) << r.error();
@@ -149,6 +150,22 @@ TEST(PcapReaderExt, reads_pcapng_with_nanosecond_timestamps) {
     EXPECT_EQ(v[0].payload, pattern(100));
     EXPECT_EQ(v[1].dst.port, 8308);
     EXPECT_TRUE(r.error().empty());
+}
+
+// A 64-bit pcapng stamp past year 2262 has no int64 ns: the record counts as BadHeader and reading
+// goes on (fuzz_pcap_reader found the overflow).
+TEST(PcapReaderExt, timestamp_beyond_int64_ns_is_a_bad_record) {
+    TempDir dir;
+    const auto f = ethernet(0x0800, ipv4(17, udp(2368, 2368, pattern(20))));
+    const std::int64_t far = static_cast<std::int64_t>(0xFFFF'FFFF'0000'0000ull);  // 1.8e19 ns
+    write_pcapng(dir.file("far.pcapng"),
+                 {{1'700'000'000'000'000'000, f}, {far, f}, {1'700'000'002'000'000'000, f}});
+    Reader r(dir.file("far.pcapng"));
+    const auto v = read_all(r);
+    ASSERT_EQ(v.size(), 2u) << r.error();
+    EXPECT_EQ(v[1].time_ns, 1'700'000'002'000'000'000);
+    EXPECT_EQ(r.count(FrameStatus::BadHeader), 1u);
+    EXPECT_EQ(r.count(FrameStatus::Ok), 2u);
 }
 
 TEST(PcapReaderExt, filter_expression_selects_ports_and_matches_every_fragment) {

@@ -185,6 +185,22 @@ TEST(GpsTime, parse_time_rejects_malformed_text_naming_it) {
     }
 }
 
+// Years whose ns since 1970 do not fit 64 bits are refused, not wrapped (fuzz_trajectory_csv).
+TEST(GpsTime, parse_time_refuses_years_outside_1900_to_2200) {
+    for (const char* far : {"1012-03-01T12:00:00Z", "1899-12-31T23:59:59Z", "2201-01-01 00:00:00",
+                            "9999-12-31T23:59:59Z"}) {
+        try {
+            parse_time(far);
+            ADD_FAILURE() << "accepted '" << far << "'";
+        } catch (const mirage::ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find("year outside 1900..2200"), std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_EQ(unix_ns_from_gps(parse_time("1900-01-01T00:00:00Z")), -2'208'988'800'000'000'000);
+    EXPECT_EQ(unix_ns_from_gps(parse_time("2200-12-31T23:59:59Z")), 7'289'654'399'000'000'000);
+}
+
 TEST(GpsTime, decimal_seconds_parse_exactly_or_not_at_all) {
     EXPECT_EQ(parse_decimal_seconds("1388534418.000000123")->count(), 1'388'534'418'000'000'123);
     EXPECT_EQ(parse_decimal_seconds("-1.5")->count(), -1'500'000'000);

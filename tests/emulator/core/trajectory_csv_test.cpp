@@ -210,3 +210,22 @@ TEST(TrajectoryCsv, save_to_unwritable_path_is_an_io_error) {
     EXPECT_THROW(save_trajectory_csv(dir.file("no/such/dir.csv"), Trajectory::fixed(Pose{})),
                  mirage::IoError);
 }
+
+// The in-memory entry point (fuzz_trajectory_csv) reads exactly what the file reader reads and
+// names its input in errors.
+TEST(TrajectoryCsv, text_in_memory_reads_like_the_file) {
+    const std::string text = "time,x,y,z,qw,qx,qy,qz\n10.5,1,2,3,1,0,0,0\n11,4,5,6,0,0,0,1\n";
+    TempDir dir;
+    const Trajectory from_file = load_trajectory_csv(write(dir, text), Georef{});
+    const Trajectory from_text = parse_trajectory_csv(text, "mem.csv", Georef{});
+    ASSERT_EQ(from_text.samples().size(), 2u);
+    EXPECT_EQ(from_text.end(), from_file.end());
+    EXPECT_EQ(from_text.samples()[1].pose.position, Eigen::Vector3d(4, 5, 6));
+    try {
+        parse_trajectory_csv("time,x,y,z,qw,qx,qy,qz\n1,1,2\n", "mem.csv", Georef{});
+        FAIL() << "short row accepted";
+    } catch (const mirage::ConfigError& e) {
+        EXPECT_TRUE(contains(e.what(), "trajectory 'mem.csv': line 2: expected 8 fields"))
+            << e.what();
+    }
+}

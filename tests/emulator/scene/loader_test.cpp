@@ -85,6 +85,22 @@ TEST(Loader, example_scene_loads_every_object_type) {
     EXPECT_DOUBLE_EQ(b.max().x(), 40);
 }
 
+// The in-memory entry point (fuzz_scene_yaml) names its input in errors and resolves mesh files
+// against the folder it is given.
+TEST(Loader, text_in_memory_resolves_files_against_the_given_folder) {
+    const std::string yaml =
+        std::string(kMaterials) + "objects:\n  - {type: mesh, file: house.obj, material: m}\n";
+    const Scene s = load_scene_text(yaml, "mem.yaml", test::source_dir() / "recordings" / "scenes");
+    ASSERT_EQ(s.meshes.size(), 1u);
+    EXPECT_EQ(s.meshes[0].vertices.size(), 10u);
+    try {
+        load_scene_text("objects: 3\n", "mem.yaml", ".");
+        ADD_FAILURE() << "objects: 3 accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("scene 'mem.yaml': objects: ", 0), 0u) << e.what();
+    }
+}
+
 TEST(Loader, transform_scales_then_rotates_then_translates) {
     test::TempDir dir;
     const std::string yaml = std::string(kMaterials) +

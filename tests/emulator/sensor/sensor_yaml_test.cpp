@@ -42,6 +42,24 @@ std::size_t count(const std::string& text, const std::string& needle) {
     return n;
 }
 
+// The in-memory entry point (fuzz_sensor_yaml) reads like the file and takes its default name
+// from the name it is given.
+TEST(SensorYaml, text_in_memory_reads_like_the_file) {
+    const SensorModel m = load_sensor_yaml_text("base: vlp16\npoint_source_id: 9\n", "mem.yaml");
+    EXPECT_EQ(m.name, "mem");
+    EXPECT_EQ(m.point_source_id, 9);
+    ASSERT_TRUE(m.scan);
+    EXPECT_EQ(m.scan->channels(), 16u);
+    try {
+        load_sensor_yaml_text("base: nope\n", "mem.yaml");
+        ADD_FAILURE() << "unknown base accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("sensor 'mem.yaml': base: unknown preset 'nope'", 0),
+                  0u)
+            << e.what();
+    }
+}
+
 TEST(SensorYaml, overrides_reach_every_channel) {
     test::TempDir dir;
     const auto path = write(dir, "v.yaml", R"(base: vlp16

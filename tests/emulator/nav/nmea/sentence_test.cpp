@@ -119,6 +119,15 @@ TEST(NmeaSentence, hdt_zda_pashr_avr_vectors_decode_every_field) {
     EXPECT_EQ(*z.zone_hours, -1);
     EXPECT_EQ(*z.zone_minutes, 0);
 
+    // A year whose ns since 1970 overflow int64 is an invalid field (fuzz_nmea), 2200 is not.
+    Zda far;
+    EXPECT_NE(parse_zda(framed(frame_sentence("GPZDA,160012.71,11,03,2420,-1,00")), far),
+              ParseStatus::Ok);
+    EXPECT_FALSE(far.date);
+    ASSERT_EQ(parse_zda(framed(frame_sentence("GPZDA,160012.71,31,12,2200,-1,00")), far),
+              ParseStatus::Ok);
+    EXPECT_EQ(*far.date, (Date{2200, 12, 31}));
+
     Pashr p;
     ASSERT_EQ(parse_pashr(framed(kPashr), p), ParseStatus::Ok);
     EXPECT_EQ(p.time->ns_of_day(), (8 * 3600 + 53 * 60 + 35) * 1'000'000'000LL);

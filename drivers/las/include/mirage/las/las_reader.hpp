@@ -52,6 +52,8 @@ struct LasPoint {
 class LasFile {
   public:
     static LasFile read(const std::string& path);  // throws IoError if unreadable
+    // The same from a file's bytes in memory (read() uses it).
+    static LasFile from_bytes(const std::vector<std::uint8_t>& bytes);
     const LasHeaderInfo& header() const { return header_; }
     const std::vector<LasPoint>& points() const { return points_; }
     std::vector<std::string> validate() const;  // empty when valid

@@ -34,7 +34,8 @@ enum class FrameStatus : std::uint8_t {
     Truncated,  // caplen < what the headers say
     NotIpv4,    // not an IP packet: other ethertype (ARP, ...), or an unsupported link type
     NotUdp,     // other IP protocol
-    BadHeader,  // IHL < 5, total length inconsistent, UDP length inconsistent
+    BadHeader,  // IHL < 5, total length inconsistent, UDP length inconsistent; a capture time
+                // beyond int64 ns since 1970 (years 1970..2262)
     Fragment,   // a fragment still waiting for its other pieces (or any IPv6 fragment)
 };
 inline constexpr std::size_t kFrameStatusCount = 6;

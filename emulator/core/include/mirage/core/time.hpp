@@ -60,7 +60,7 @@ inline double adjusted_standard_gps_seconds(GpsTime t) {
 
 // Parses "2024-01-01T00:00:00Z" / "2024-01-01 00:00:00" (UTC) or "gps:<seconds>" into GPS time.
 // UTC forms take an optional fraction of up to 9 digits ("...:00.123456789Z"), read exactly,
-// and second 60 at an inserted leap second. Throws ConfigError naming the text.
+// and second 60 at an inserted leap second; years 1900..2200. Throws ConfigError naming the text.
 GpsTime parse_time(const std::string& text);
 
 // Exact decimal seconds -> ns: "[-]digits[.digits]" with at most 9 significant decimal places

@@ -50,6 +50,9 @@ class Trajectory {
 // IoError if the file cannot be read.
 Trajectory load_trajectory_csv(const std::string& path, const Georef& georef,
                                Interpolation interp = Interpolation::Linear);
+// The same from CSV text in memory; `name` labels errors.
+Trajectory parse_trajectory_csv(const std::string& text, const std::string& name,
+                                const Georef& georef, Interpolation interp = Interpolation::Linear);
 
 // Writes the samples as `time,x,y,z,qw,qx,qy,qz` (GPS seconds with exact ns, local metres,
 // shortest round-trip decimals), which load_trajectory_csv reads back bit-exactly.

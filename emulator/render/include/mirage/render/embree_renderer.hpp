@@ -64,7 +64,6 @@ class BruteForceRenderer : public Renderer {
 
   private:
     struct Impl;
-    const scene::Scene& scene_;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -105,6 +105,8 @@ struct SensorModel {
 std::vector<std::string> preset_names();
 SensorModel preset(const std::string& name);            // throws ConfigError if unknown
 SensorModel load_sensor_yaml(const std::string& path);  // throws ConfigError with key path
+// The same from YAML text in memory; `name` labels errors and gives the default model name.
+SensorModel load_sensor_yaml_text(const std::string& yaml, const std::string& name);
 // A preset name or a YAML path.
 SensorModel resolve_sensor(const std::string& spec);
 

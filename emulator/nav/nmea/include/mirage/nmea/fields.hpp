@@ -31,6 +31,7 @@ struct Date {
     static Date from_unix_days(std::int64_t days);
     friend bool operator==(const Date&, const Date&) = default;
 };
+// A valid calendar date of 1980..2200; nullopt otherwise.
 std::optional<Date> make_date(int year, int month, int day);
 // RMC `ddmmyy`; two-digit years map to 1980–2079.
 std::optional<Date> parse_ddmmyy(std::string_view text);
