@@ -15,6 +15,10 @@ constexpr std::uint16_t kEtherQinQ = 0x88a8;
 constexpr std::uint8_t kProtoUdp = 17;
 
 std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
+std::uint32_t be32(const std::uint8_t* p) {
+    return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+           p[3];
+}
 
 // Too few captured bytes: the capture's fault (snaplen) or the frame's (lying header).
 FrameStatus short_status(std::size_t caplen, std::uint32_t wire_len) {
@@ -53,9 +57,9 @@ bool link_layer(int dlt, std::span<const std::uint8_t> f, std::size_t& offset,
             offset = 4;
             // AF_INET6 differs per OS: 10 (Linux), 24 (NetBSD/OpenBSD), 28 (FreeBSD), 30 (macOS).
             const std::uint8_t af = f[0] != 0 ? f[0] : f[3];
-            ethertype = af == 2 ? kEtherIpv4 : (af == 10 || af == 24 || af == 28 || af == 30)
-                                                   ? kEtherIpv6
-                                                   : 0;
+            ethertype = af == 2                                          ? kEtherIpv4
+                        : (af == 10 || af == 24 || af == 28 || af == 30) ? kEtherIpv6
+                                                                         : 0;
             return true;
         }
         case DLT_IPV6:
@@ -84,25 +88,29 @@ FrameStatus parse_ipv6(std::span<const std::uint8_t> ip, std::size_t caplen, std
     std::uint8_t next = ip[6];
     std::size_t off = 40;
     // Extension headers (RFC 8200 §4): hop-by-hop, routing, destination options, fragment, AH.
+    // After a fragment header the rest is the fragment's piece of the fragmentable part.
+    out.more_fragments = false;
+    out.fragment_offset = 0;
     for (int hops = 0; hops < 16; ++hops) {
         if (next != 0 && next != 43 && next != 60 && next != 44 && next != 51) break;
         if (total_len < off + 8) return FrameStatus::BadHeader;
-        std::size_t len = 8;
         if (next == 44) {
             const std::uint16_t fo = be16(&ip[off + 2]);
-            if ((fo & 0xfff8) != 0 || (fo & 1) != 0) return FrameStatus::Fragment;
-        } else if (next == 51) {
-            len = (std::size_t{ip[off + 1]} + 2) * 4;
-        } else {
-            len = (std::size_t{ip[off + 1]} + 1) * 8;
+            next = ip[off];
+            off += 8;
+            if ((fo & 0xfff8) == 0 && (fo & 1) == 0) continue;  // atomic (RFC 6946)
+            out.fragment_offset = fo & 0xfff8u;                 // 8-byte units in bits 15..3
+            out.more_fragments = (fo & 1) != 0;
+            out.id = be32(&ip[off - 4]);
+            break;
         }
+        const std::size_t len =
+            next == 51 ? (std::size_t{ip[off + 1]} + 2) * 4 : (std::size_t{ip[off + 1]} + 1) * 8;
         next = ip[off];
         off += len;
         if (off > total_len) return FrameStatus::BadHeader;
     }
     out.protocol = next;
-    out.more_fragments = false;
-    out.fragment_offset = 0;
     out.payload = ip.subspan(off, total_len - off);
     return next == kProtoUdp ? FrameStatus::Ok : FrameStatus::NotUdp;
 }

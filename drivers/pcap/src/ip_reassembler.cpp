@@ -4,14 +4,20 @@
 #include <algorithm>
 
 namespace mirage::pcap::detail {
-namespace {
-
-std::uint32_t be32(const std::array<std::uint8_t, 4>& a) {
-    return (std::uint32_t{a[0]} << 24) | (std::uint32_t{a[1]} << 16) | (std::uint32_t{a[2]} << 8) |
-           std::uint32_t{a[3]};
+IpReassembler::Key IpReassembler::key_of(const Ipv4Packet& p) {
+    Key k{};
+    k[0] = p.v6 ? 6 : 4;
+    k[1] = p.protocol;
+    for (int i = 0; i < 4; ++i) k[2 + i] = static_cast<std::uint8_t>(p.id >> (24 - 8 * i));
+    if (p.v6) {
+        std::copy(p.src6.begin(), p.src6.end(), k.begin() + 6);
+        std::copy(p.dst6.begin(), p.dst6.end(), k.begin() + 22);
+    } else {
+        std::copy(p.src.begin(), p.src.end(), k.begin() + 6);
+        std::copy(p.dst.begin(), p.dst.end(), k.begin() + 22);
+    }
+    return k;
 }
-
-}  // namespace
 
 IpReassembler::Result IpReassembler::add(const Ipv4Packet& p, std::int64_t time_ns,
                                          std::vector<std::uint8_t>& payload,
@@ -19,11 +25,12 @@ IpReassembler::Result IpReassembler::add(const Ipv4Packet& p, std::int64_t time_
     const auto begin = p.fragment_offset;
     const auto len = static_cast<std::uint32_t>(p.payload.size());
     const std::uint32_t end = begin + len;
-    // Every piece but the last carries a multiple of 8 bytes (RFC 791); nothing ends past 64 KiB.
-    if (end > kMaxDatagram || (p.more_fragments && (len == 0 || len % 8 != 0))) return Result::Bad;
+    // Every piece but the last carries a multiple of 8 bytes (RFC 791, RFC 8200 §4.5); nothing
+    // ends past 64 KiB.
+    if (end > max_datagram(p.v6) || (p.more_fragments && (len == 0 || len % 8 != 0)))
+        return Result::Bad;
 
-    const Key key{(std::uint64_t{be32(p.src)} << 32) | be32(p.dst),
-                  (std::uint32_t{p.id} << 8) | p.protocol};
+    const Key key = key_of(p);
     auto it = pending_.find(key);
     if (it == pending_.end()) {
         if (pending_.size() >= kMaxPending) evict_oldest();

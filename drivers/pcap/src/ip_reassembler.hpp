@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <array>
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -9,14 +10,19 @@
 
 namespace mirage::pcap::detail {
 
-// IPv4 fragment reassembly keyed by (src, dst, id, protocol) as RFC 791 and Linux do. Pieces
-// may arrive in any order and overlap (later bytes win). Incomplete datagrams are given up after
+// IP fragment reassembly keyed by (version, src, dst, id, protocol), as RFC 791 (IPv4) and
+// RFC 8200 §4.5 (IPv6) define and Linux does. Pieces may arrive in any order and overlap (later
+// bytes win). Incomplete datagrams are given up after
 // kTimeoutNs of capture time (Linux ipfrag_time) or when more than kMaxPending are open.
 class IpReassembler {
   public:
     static constexpr std::int64_t kTimeoutNs = 30'000'000'000;
     static constexpr std::size_t kMaxPending = 256;
     static constexpr std::uint32_t kMaxDatagram = 65535 - 20;  // largest IPv4 payload
+    static constexpr std::uint32_t kMaxDatagram6 = 65535;      // largest IPv6 fragmentable part
+    static constexpr std::uint32_t max_datagram(bool v6) {
+        return v6 ? kMaxDatagram6 : kMaxDatagram;
+    }
 
     enum class Result { Pending, Complete, Bad };
 
@@ -41,7 +47,10 @@ class IpReassembler {
         std::int64_t total = -1;  // known once the last piece (MF = 0) arrived
         std::uint64_t frames = 0;
     };
-    using Key = std::pair<std::uint64_t, std::uint32_t>;
+    // version, protocol, id (4 bytes), source (16), destination (16); IPv4 addresses in the
+    // first 4 bytes of each.
+    using Key = std::array<std::uint8_t, 38>;
+    static Key key_of(const Ipv4Packet& p);
     static bool complete(Pending& d);
     void evict_oldest();
 

@@ -212,7 +212,7 @@ bool Reader::next(UdpDatagram& out) {
         detail::Ipv4Packet ip;
         const std::span<const std::uint8_t> frame(data, hdr->caplen);
         FrameStatus status = detail::parse_ipv4_frame(m.dlt, frame, hdr->len, ip);
-        const bool fragment = status == FrameStatus::Ok && !ip.v6 && ip.is_fragment();
+        const bool fragment = status == FrameStatus::Ok && ip.is_fragment();
         // Fragments are filtered once whole; everything else as captured.
         if (m.filtering && !fragment && pcap_offline_filter(&m.raw_filter, hdr, data) == 0) {
             ++m.filtered;
@@ -237,15 +237,23 @@ bool Reader::next(UdpDatagram& out) {
         }
         status = detail::parse_udp(ip_payload, out);
         if (status == FrameStatus::Ok && fragment && m.filtering) {
-            // Re-frame the whole datagram as one Ethernet/IPv4/UDP frame for the filter.
-            const Endpoint src{ip.src, out.src.port}, dst{ip.dst, out.dst.port};
+            // Re-frame the whole datagram as one Ethernet/IP/UDP frame for the filter.
             bool pass = false;
-            detail::frame_udp(FrameOptions{}, src, dst, ip.id, out.payload, 65535 + 28, m.frame,
-                              [&](std::span<const std::uint8_t> f) {
-                                  pcap_pkthdr h{};
-                                  h.caplen = h.len = static_cast<bpf_u_int32>(f.size());
-                                  pass = pcap_offline_filter(&m.eth_filter, &h, f.data()) != 0;
-                              });
+            auto judge = [&](std::span<const std::uint8_t> f) {
+                pcap_pkthdr h{};
+                h.caplen = h.len = static_cast<bpf_u_int32>(f.size());
+                pass = pcap_offline_filter(&m.eth_filter, &h, f.data()) != 0;
+            };
+            Endpoint src{ip.src, out.src.port}, dst{ip.dst, out.dst.port};
+            if (ip.v6) {
+                src.ip6 = ip.src6;
+                dst.ip6 = ip.dst6;
+                detail::frame_udp6(FrameOptions{}, src, dst, out.payload, m.frame);
+                judge(m.frame);
+            } else {
+                detail::frame_udp(FrameOptions{}, src, dst, static_cast<std::uint16_t>(ip.id),
+                                  out.payload, 65535 + 28, m.frame, judge);
+            }
             if (!pass) {
                 m.filtered += frames;
                 continue;

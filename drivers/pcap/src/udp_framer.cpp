@@ -98,4 +98,35 @@ void frame_udp(const FrameOptions& opt, const Endpoint& src, const Endpoint& dst
     } while (offset < udp_len);
 }
 
+void frame_udp6(const FrameOptions& opt, const Endpoint& src, const Endpoint& dst,
+                std::span<const std::uint8_t> payload, std::vector<std::uint8_t>& frame) {
+    constexpr std::size_t kIp6 = 40;
+    const std::size_t udp_len = kUdp + payload.size();
+    frame.assign(std::max(kEth + kIp6 + udp_len, kMinFrame), 0);
+    std::uint8_t* f = frame.data();
+    std::copy(opt.dst_mac.begin(), opt.dst_mac.end(), f);
+    std::copy(opt.src_mac.begin(), opt.src_mac.end(), f + 6);
+    put16(f + 12, 0x86dd);
+    std::uint8_t* ip = f + kEth;
+    ip[0] = 0x60;
+    put16(ip + 4, static_cast<std::uint32_t>(udp_len));
+    ip[6] = 17;
+    ip[7] = opt.ttl;
+    std::copy(src.ip6.begin(), src.ip6.end(), ip + 8);
+    std::copy(dst.ip6.begin(), dst.ip6.end(), ip + 24);
+    std::uint8_t* udp = ip + kIp6;
+    put16(udp, src.port);
+    put16(udp + 2, dst.port);
+    put16(udp + 4, static_cast<std::uint32_t>(udp_len));
+    std::copy(payload.begin(), payload.end(), udp + kUdp);
+    // Pseudo-header: source, destination, upper-layer length, next header (UDP).
+    std::uint32_t sum = ones_sum(src.ip6);
+    sum = ones_sum(dst.ip6, sum);
+    sum += static_cast<std::uint32_t>(udp_len >> 16) + static_cast<std::uint32_t>(udp_len & 0xffff);
+    sum += 17;
+    sum = ones_sum({udp, udp_len}, sum);
+    const std::uint16_t c = fold_complement(sum);
+    put16(udp + 6, c == 0 ? 0xffff : c);  // IPv6 forbids a zero UDP checksum
+}
+
 }  // namespace mirage::pcap::detail

@@ -20,4 +20,10 @@ void frame_udp(const FrameOptions& opt, const Endpoint& src, const Endpoint& dst
                std::vector<std::uint8_t>& frame,
                const std::function<void(std::span<const std::uint8_t>)>& emit);
 
+// One Ethernet/IPv6/UDP frame of a whole datagram (addresses in src.ip6 / dst.ip6, UDP checksum
+// over the RFC 8200 §8.1 pseudo-header): the BPF filter's view of a reassembled IPv6 datagram.
+// 8 + payload.size() <= 65535.
+void frame_udp6(const FrameOptions& opt, const Endpoint& src, const Endpoint& dst,
+                std::span<const std::uint8_t> payload, std::vector<std::uint8_t>& frame);
+
 }  // namespace mirage::pcap::detail

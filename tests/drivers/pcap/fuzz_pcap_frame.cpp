@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// libFuzzer: captured frames (fuzz_pcap_frame.hpp) through the link/IP parser, IPv4 fragment
-// reassembly and the UDP parser, in the order the pcap reader applies them. A reassembled
-// datagram must fit IPv4 and a UDP payload its IP payload.
+// libFuzzer: captured frames (fuzz_pcap_frame.hpp) through the link/IP parser, IPv4 and IPv6
+// fragment reassembly and the UDP parser, in the order the pcap reader applies them. A
+// reassembled datagram must fit its IP version and a UDP payload its IP payload.
 #include "fuzz_pcap_frame.hpp"
 
 #include <cstddef>
@@ -25,12 +25,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (ip.payload.size() > f.bytes.size()) __builtin_trap();
         std::vector<std::uint8_t> whole;
         std::span<const std::uint8_t> payload = ip.payload;
-        if (!ip.v6 && ip.is_fragment()) {
+        if (ip.is_fragment()) {
             std::uint64_t frames = 0;
             if (reassembler.add(ip, f.time_ns, whole, frames) !=
                 detail::IpReassembler::Result::Complete)
                 return;
-            if (whole.size() > detail::IpReassembler::kMaxDatagram || frames < 2) __builtin_trap();
+            if (whole.size() > detail::IpReassembler::max_datagram(ip.v6) || frames < 2)
+                __builtin_trap();
             payload = whole;
         }
         UdpDatagram d;

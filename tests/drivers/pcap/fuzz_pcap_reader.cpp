@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         const auto& c = reader.counts();
         if (std::accumulate(c.begin(), c.end(), std::uint64_t{0}) < datagrams) __builtin_trap();
-    } catch (const mirage::IoError&) {  // not a capture libpcap can open
+    } catch (const mirage::IoError&) {      // not a capture libpcap can open
     } catch (const mirage::ConfigError&) {  // a link type the filter cannot be compiled for
     }
     return 0;

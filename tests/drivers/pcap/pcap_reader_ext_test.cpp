@@ -73,8 +73,65 @@ TEST(PcapReaderExt, reads_ipv6_udp_with_and_without_extension_headers) {
     EXPECT_EQ(v[0].payload, (Bytes{1, 2, 3}));
     EXPECT_EQ(v[1].dst.port, 2369);
     EXPECT_EQ(v[1].payload, (Bytes{4, 5, 6}));
-    EXPECT_EQ(r.count(FrameStatus::Fragment), 1u);  // IPv6 fragments are not reassembled
+    EXPECT_EQ(r.count(FrameStatus::Fragment), 1u);  // a first piece whose rest never came
     EXPECT_EQ(r.count(FrameStatus::NotUdp), 1u);
+}
+
+// IPv6 fragments (RFC 8200 §4.5) of one 3000-byte UDP datagram, behind a hop-by-hop header,
+// arriving last piece first with an overlapping duplicate; a second datagram from another
+// source reuses the identification and never completes.
+std::vector<RawRecord> ipv6_fragments(const Bytes& whole) {
+    auto piece = [&](std::size_t begin, std::size_t end, bool more, std::uint8_t src_last) {
+        Bytes body = {44, 0, 0, 0, 0, 0, 0, 0};  // hop-by-hop, next header: fragment
+        const auto fo = static_cast<unsigned>(begin | (more ? 1u : 0u));
+        Bytes frag = {17,
+                      0,
+                      static_cast<std::uint8_t>(fo >> 8),
+                      static_cast<std::uint8_t>(fo),
+                      0xca,
+                      0xfe,
+                      0xba,
+                      0xbe};
+        append(body, frag);
+        append(body, Bytes(whole.begin() + static_cast<std::ptrdiff_t>(begin),
+                           whole.begin() + static_cast<std::ptrdiff_t>(end)));
+        return ethernet(0x86dd, ipv6(0, body, src_last));
+    };
+    return {{1, piece(2400, 3000, false, 1)},
+            {2, piece(1200, 2400, true, 1)},
+            {3, piece(0, 1208, true, 7)},  // other source: its own datagram
+            {4, piece(0, 1208, true, 1)},
+            {5, piece(1200, 1208, true, 1)}};  // duplicate of bytes already there
+}
+
+TEST(PcapReaderExt, reassembles_ipv6_fragments_in_any_order) {
+    TempDir dir;
+    const auto payload = pattern(3000 - 8);
+    write_raw_pcap(dir.file("v6f.pcap"), kEthernet, ipv6_fragments(udp(7502, 7503, payload)));
+    Reader r(dir.file("v6f.pcap"));
+    const auto v = read_all(r);
+    ASSERT_EQ(v.size(), 1u);
+    EXPECT_TRUE(v[0].dst.v6);
+    EXPECT_EQ(v[0].src.ip6[15], 1);
+    EXPECT_EQ(v[0].src.port, 7502);
+    EXPECT_EQ(v[0].dst.port, 7503);
+    EXPECT_EQ(v[0].payload, payload);
+    EXPECT_EQ(v[0].time_ns, 4);                     // when the datagram became whole
+    EXPECT_EQ(r.count(FrameStatus::Ok), 3u);        // the three pieces that completed it
+    EXPECT_EQ(r.count(FrameStatus::Fragment), 2u);  // the other source's piece, the duplicate
+}
+
+TEST(PcapReaderExt, filter_judges_a_reassembled_ipv6_datagram_as_a_whole) {
+    TempDir dir;
+    write_raw_pcap(dir.file("v6f.pcap"), kEthernet,
+                   ipv6_fragments(udp(7502, 7503, pattern(3000 - 8))));
+    Reader a(dir.file("v6f.pcap"));
+    a.set_filter("ip6 and udp dst port 7503 and src host 2001:db8::1");
+    EXPECT_EQ(read_all(a).size(), 1u);
+    Reader b(dir.file("v6f.pcap"));
+    b.set_filter("udp port 2368");
+    EXPECT_EQ(read_all(b).size(), 0u);
+    EXPECT_EQ(b.filtered(), 3u);  // the whole datagram's three pieces
 }
 
 TEST(PcapReaderExt, reads_double_tagged_vlan_frames) {

@@ -150,7 +150,7 @@ TEST(PcapReader, counts_every_frame_status_and_never_throws) {
     Bytes cut = good;  // snaplen cut mid-UDP payload
     cut.resize(30);
     recs.push_back({2, cut, static_cast<std::uint32_t>(good.size())});
-    recs.push_back({3, ethernet(0x0806, Bytes(28, 0))});                          // ARP
+    recs.push_back({3, ethernet(0x0806, Bytes(28, 0))});  // ARP
     recs.push_back({4, ethernet(0x86dd, Bytes(48, 0))});  // IPv6 type, version 0: bad header
     recs.push_back({5, ethernet(0x0800, ipv4(6, Bytes(20, 0)))});                 // TCP
     recs.push_back({6, ethernet(0x0800, ipv4(17, udp(1, 2, {1, 2}), 1, 0, 4))});  // IHL 4

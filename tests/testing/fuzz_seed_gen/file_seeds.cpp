@@ -5,6 +5,7 @@
 // save_trajectory_csv.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +64,30 @@ Bytes ipv6_udp(const Bytes& payload, std::uint8_t next_header = 17, const Bytes&
     return h;
 }
 
+// Raw IPv6 packets (fe80::1 -> fe80::2) carrying one UDP datagram in fragments of `piece` bytes
+// (RFC 8200 §4.5), last piece first.
+std::vector<Bytes> ipv6_fragments(const Bytes& payload, std::size_t piece) {
+    const Bytes whole = test::udp(7502, 7502, payload);
+    std::vector<Bytes> out;
+    for (std::size_t begin = 0; begin < whole.size(); begin += piece) {
+        const std::size_t end = std::min(whole.size(), begin + piece);
+        const auto fo = static_cast<unsigned>(begin | (end < whole.size() ? 1u : 0u));
+        Bytes h(40, 0);
+        h[0] = 0x60;
+        test::put16(h, 4, static_cast<unsigned>(8 + end - begin));
+        h[6] = 44;
+        h[7] = 64;
+        h[8] = 0xfe, h[9] = 0x80, h[23] = 1;
+        h[24] = 0xfe, h[25] = 0x80, h[39] = 2;
+        test::append(h, {17, 0, static_cast<std::uint8_t>(fo >> 8), static_cast<std::uint8_t>(fo),
+                         0, 0, 0, 5});
+        test::append(h, Bytes(whole.begin() + static_cast<std::ptrdiff_t>(begin),
+                              whole.begin() + static_cast<std::ptrdiff_t>(end)));
+        out.insert(out.begin(), h);
+    }
+    return out;
+}
+
 // Byte 0 indexes pcap::test::kFuzzLinkTypes: 0 Ethernet, 1 SLL, 2 SLL2, 3 loopback, 4 raw,
 // 5 IPv4, 6 IPv6.
 void pcap_frames(SeedWriter& w) {
@@ -108,6 +133,9 @@ void pcap_frames(SeedWriter& w) {
     pcap::test::append_frame(b, ip4, 1);
     pcap::test::append_frame(b, ipv6_udp(test::pattern(8)), 1);
     w.put(t, "raw", 4, b);
+    b.clear();
+    for (const auto& f : ipv6_fragments(test::pattern(600), 256)) pcap::test::append_frame(b, f, 1);
+    w.put(t, "ipv6_fragments", 6, b);
 }
 
 // A minimal pcapng: section header, Ethernet interface, one enhanced packet block.
