@@ -53,7 +53,8 @@ struct Fixture {
     scene::Scene scene = plane_scene(400.0, Eigen::Affine3d::Identity(), 0.3);
     render::EmbreeRenderer renderer{scene};
     sensor::SensorModel sensor = sensor::preset("vlp16");
-    core::Trajectory trajectory = core::Trajectory::fixed({{0, 0, 1.8}, {}});
+    core::Trajectory trajectory =
+        core::Trajectory::fixed({{0, 0, 1.8}, Eigen::Quaterniond::Identity()});
     render::RenderOptions options;
     Fixture() {
         options.threads = 2;
