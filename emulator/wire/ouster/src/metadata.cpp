@@ -147,6 +147,13 @@ class Reader {
         if (!v || !v->is_number()) fail(key, "expected a number");
         return v->get<double>();
     }
+    // A whole number in [0, max]: converting anything else to an unsigned type is undefined.
+    std::uint64_t whole(const Json* v, const std::string& key, std::uint64_t max) const {
+        const double x = number(v, key);
+        if (!(x >= 0.0 && x <= double(max)) || x != std::floor(x))
+            fail(key, "expected a whole number from 0 to " + std::to_string(max));
+        return static_cast<std::uint64_t>(x);
+    }
     std::string text(const Json* v, const std::string& key) const {
         if (!v || !v->is_string()) fail(key, "expected a string");
         return v->get<std::string>();
@@ -273,7 +280,7 @@ Descriptor read_descriptor(const Json& root, const Reader& rd) {
         d.serial = sn;
     }
     if (const auto* v = rd.get(info, "initialization_id"))
-        d.init_id = static_cast<std::uint32_t>(rd.number(v, "initialization_id"));
+        d.init_id = static_cast<std::uint32_t>(rd.whole(v, "initialization_id", 0xffffffffu));
     if (const auto* v = rd.get(info, "build_rev")) d.firmware = rd.text(v, "build_rev");
     if (const auto* v = rd.get(info, "prod_pn")) d.part_number = rd.text(v, "prod_pn");
     // FW 2.x streams carry the footer placeholder; FW 3.x a CRC.
@@ -281,9 +288,9 @@ Descriptor read_descriptor(const Json& root, const Reader& rd) {
                    ? FooterKind::Fw2Placeholder
                    : FooterKind::Crc64;
     if (const auto* v = rd.get(config, "udp_port_lidar"))
-        d.udp_port_lidar = static_cast<std::uint16_t>(rd.number(v, "udp_port_lidar"));
+        d.udp_port_lidar = static_cast<std::uint16_t>(rd.whole(v, "udp_port_lidar", 65535));
     if (const auto* v = rd.get(config, "udp_port_imu"))
-        d.udp_port_imu = static_cast<std::uint16_t>(rd.number(v, "udp_port_imu"));
+        d.udp_port_imu = static_cast<std::uint16_t>(rd.whole(v, "udp_port_imu", 65535));
     return d;
 }
 

@@ -130,5 +130,29 @@ TEST(OusterMetadata, malformed_metadata_names_the_input_and_key) {
     EXPECT_THROW(load_metadata("/nonexistent/x.json"), IoError);
 }
 
+// Integers the descriptor stores unsigned: a negative, fractional or too large value is refused
+// naming the key, never converted (fuzz_ouster_metadata: UBSan float-cast-overflow).
+TEST(OusterMetadata, unsigned_fields_out_of_range_are_refused) {
+    const auto with = [](const std::string& key, double value) {
+        Json j = Json::parse(metadata_json(make_descriptor("os1-64-1024x10", Profile::Legacy),
+                                           {MetadataShape::Fw2Flat}));
+        j[key] = value;
+        try {
+            descriptor_from_metadata(j.dump(), "m.json");
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(with("initialization_id", -898272),
+              "ouster metadata 'm.json': initialization_id: expected a whole number from 0 to "
+              "4294967295");
+    EXPECT_EQ(with("initialization_id", 1.5).find("initialization_id: expected a whole"), 26u);
+    EXPECT_EQ(with("udp_port_lidar", 70000),
+              "ouster metadata 'm.json': udp_port_lidar: expected a whole number from 0 to 65535");
+    EXPECT_EQ(with("udp_port_imu", -1).find("udp_port_imu: expected a whole"), 26u);
+    EXPECT_EQ(with("udp_port_imu", 7503), "no error");
+}
+
 }  // namespace
 }  // namespace mirage::ouster
