@@ -42,7 +42,8 @@ struct NavLogOptions {
 };
 
 // A recorded navigation log, decoded: what `mirage live --nav-record` writes (raw bytes for
-// NMEA / NovAtel / NCOM, candump -L for the CAN protocols), or e.g. ../shared/nav-io/rst39.log.
+// NMEA / NovAtel / NCOM, candump -L for the CAN protocols), or a unit's own log such as the
+// OxTS RT NMEA log rst39.log of gpsd's test suite.
 struct NavLog {
     std::string path;
     NavProtocol protocol = NavProtocol::Nmea;
