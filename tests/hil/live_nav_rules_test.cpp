@@ -22,17 +22,13 @@
 #include "mirage/nmea/nmea_encoder.hpp"
 #include "mirage/nmea/sentence.hpp"
 #include "test_paths.hpp"
+#include "utm_ground_scene.hpp"
 
 namespace mirage::test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr const char* kScene = R"(georef: {epsg: 32632, anchor: [500000, 5000000, 0]}
-materials:
-  ground: {reflectance: 0.3, classification: 2}
-objects:
-  - {type: plane, material: ground, size: [120, 120]}
-)";
+constexpr const char* kScene = kUtmGroundScene;
 const core::Georef kGeoref = core::Georef::projected(32632, {500000, 5000000, 0});
 const core::GpsTime kT0 = core::parse_time("2024-03-05T12:00:00Z");
 constexpr int kEpochs = 30;  // 10 Hz

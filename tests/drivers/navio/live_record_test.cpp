@@ -24,17 +24,12 @@
 #include "mirage/navio/nav_recorder.hpp"
 #include "mirage/nmea/nmea_decoder.hpp"
 #include "test_paths.hpp"
+#include "utm_ground_scene.hpp"
 
 namespace mirage::test {
 namespace {
 
-// A yard in UTM 32N (the fake INS needs a georeference to report WGS84).
-constexpr const char* kScene = R"(georef: {epsg: 32632, anchor: [500000, 5000000, 0]}
-materials:
-  ground: {reflectance: 0.3, classification: 2}
-objects:
-  - {type: plane, material: ground, size: [120, 120]}
-)";
+constexpr const char* kScene = kUtmGroundScene;
 
 const char* kLive =
     " --sensor vlp16 --sub-rays 1 --no-noise --position-port 0 --duration 2 --no-status"
