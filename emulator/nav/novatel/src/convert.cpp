@@ -139,7 +139,7 @@ std::uint32_t ins_status_for(FixQuality q) {
 }
 
 std::optional<NavSample> to_sample(const LongHeader& h, const BestPos& m) {
-    if (h.ms_of_week >= kMsPerWeek) return std::nullopt;
+    if (h.ms_of_week >= kMsPerWeek || h.week > core::kMaxGpsWeek) return std::nullopt;
     NavSample s = header_sample(h);
     s.satellites = m.svs_in_solution;
     if (m.solution_status != 0 || m.position_type == kPosNone) {
@@ -156,7 +156,7 @@ std::optional<NavSample> to_sample(const LongHeader& h, const BestPos& m) {
 }
 
 std::optional<NavSample> to_sample(const LongHeader& h, const InsPvaX& m) {
-    if (h.ms_of_week >= kMsPerWeek) return std::nullopt;
+    if (h.ms_of_week >= kMsPerWeek || h.week > core::kMaxGpsWeek) return std::nullopt;
     NavSample s = header_sample(h);
     if (!ins_status_has_solution(m.ins_status)) {
         s.quality = FixQuality::None;
@@ -179,7 +179,7 @@ std::optional<NavSample> to_sample(const LongHeader& h, const InsPvaX& m) {
 
 std::optional<NavSample> to_sample(const InsPvaS& m) {
     if (!finite_in(m.seconds_of_week, 0.0, 604'800.0) || m.seconds_of_week >= 604'800.0 ||
-        m.week > 0xFFFFU)
+        m.week > static_cast<std::uint32_t>(core::kMaxGpsWeek))
         return std::nullopt;
     NavSample s;
     s.source = nav::Protocol::Novatel;

@@ -16,6 +16,7 @@ namespace {
 using namespace mirage::novatel;
 using namespace mirage::novatel::test;
 using mirage::nav::NavSample;
+namespace core = mirage::core;
 
 // A mixed stream of the three logs; returns the frames.
 std::vector<std::vector<std::uint8_t>> make_frames(int n, std::uint64_t seed) {
@@ -230,6 +231,33 @@ TEST(NovatelStream, nan_and_out_of_range_fields_are_rejected_and_counted) {
     EXPECT_EQ(c.dec.counters().invalid_field, bad.size());
     EXPECT_EQ(c.dec.counters().messages_ok, 0U);
     EXPECT_EQ(c.dec.counters().bad_checksum, 0U);
+}
+
+// A u16 or u32 week past core::kMaxGpsWeek has no place on the int64 ns timeline (found by
+// fuzz_novatel as a signed overflow); the last representable week still decodes.
+TEST(NovatelStream, weeks_past_the_timeline_are_refused_and_the_last_week_decodes) {
+    constexpr auto last = static_cast<std::uint16_t>(core::kMaxGpsWeek);
+    BestPos b;
+    b.position_type = kPosSingle;
+    InsPvaS s = good_inspvas();
+    Collect c;
+    c.feed(frame(b, last + 1, 0));
+    c.feed(frame(good_inspvax(), 0xFFFF, 604'799'999));
+    s.week = last + 1U;
+    c.feed(frame(s));
+    s.week = 0xFFFF'FFFFU;
+    c.feed(frame(s));
+    EXPECT_EQ(c.dec.counters().invalid_field, 4U);
+    EXPECT_TRUE(c.out.empty());
+
+    c.feed(frame(b, last, 604'799'999));
+    s.week = last;
+    s.seconds_of_week = 604'799.999'999'999;
+    c.feed(frame(s));
+    ASSERT_EQ(c.out.size(), 2U);
+    constexpr std::int64_t kNsPerWeek = core::kSecondsPerWeek * core::kNsPerSecond;
+    EXPECT_EQ(c.out[0].t.time_since_epoch().count(), (last + 1) * kNsPerWeek - 1'000'000);
+    EXPECT_EQ(c.out[1].t.time_since_epoch().count(), (last + 1) * kNsPerWeek - 1);
 }
 
 TEST(NovatelStream, random_bytes_never_produce_a_sample) {

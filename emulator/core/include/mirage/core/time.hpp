@@ -41,6 +41,10 @@ struct GpsWeekTime {
     std::int64_t ns_of_week;
 };
 GpsWeekTime to_week_time(GpsTime t);
+// The last GPS week whose every instant fits the int64 ns timeline (year 2272). Decoders refuse
+// larger weeks read from the wire; from_week_time requires 0 <= week <= kMaxGpsWeek and
+// 0 <= ns_of_week < one week.
+inline constexpr std::int32_t kMaxGpsWeek = 15'249;
 GpsTime from_week_time(std::int32_t week, std::int64_t ns_of_week);
 
 // LAS "adjusted standard GPS time": GPS seconds − 1e9 (LAS 1.4 global encoding bit 0).
