@@ -67,8 +67,8 @@ RayBatchBuilder::RayBatchBuilder(const sensor::SensorModel& sensor,
       trajectory_(trajectory),
       mount_(mount.as_pose()),
       start_(start),
-      subrays_(
-          sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile, sensor.beam.divergence_rad)),
+      subrays_(sensor::footprint(sensor.beam.sub_rays, sensor.beam.profile,
+                                 sensor.beam.divergence_rad, sensor.beam.footprint_radius)),
       group_(std::max<std::uint32_t>(1, sensor.scan->group_size())),
       pose_stride_(pose_stride(sensor.scan->pulse_rate_hz())),
       batch_(trace_batch_pulses(sensor)) {

@@ -97,7 +97,7 @@ PulseShader::PulseShader(const Setup& setup)
       separation_m_(0.5 * 299'792'458.0 * sensor_.beam.pulse_width_s),
       // Angle between neighbouring sub-rays (the footprint's ring spacing, beam radius / k).
       cell_rad_(sensor_.beam.sub_rays > 1
-                    ? 0.5 * sensor_.beam.divergence_rad /
+                    ? 0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius /
                           std::round((std::sqrt(12.0 * sensor_.beam.sub_rays - 3.0) - 3.0) / 6.0)
                     : 0.0),
       // Received power of unit weight, range, BRDF, incidence and transmission: every sub-ray's
@@ -117,22 +117,37 @@ PulseShader::PulseShader(const Setup& setup)
     }
     if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     if (point_fields_.empty()) point_fields_.push_back({});
+    if (sensor_.detector == sensor::DetectorKind::Linear) {
+        // The pulse: a Gaussian whose FWHM is the beam's pulse width (docs/time-resolved.md §4).
+        const auto shape = physics::PulseShape::gaussian(sensor_.beam.pulse_width_s * 1e9,
+                                                         "sensor '" + sensor_.name + "'");
+        sigma_p_ns_ = shape.sigma_ns();
+        linear_.emplace(sensor_.linear, "sensor '" + sensor_.name + "'");
+        synth_.emplace(shape, 1.0 / sensor_.linear.sample_rate_gsps,
+                       "sensor '" + sensor_.name + "': detector.sample_rate_gsps");
+    }
+}
+
+std::vector<double> PulseShader::weighted_k(const std::vector<sensor::SubRay>& subrays) const {
+    std::vector<double> k(subrays.size());
+    for (std::size_t s = 0; s < subrays.size(); ++s) k[s] = subrays[s].weight * power_k_;
+    return k;
 }
 
 void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
                         const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                         ShadedPoints& out) const {
-    const std::size_t s_count = subrays.size();
     scratch.pending.clear();
     // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
-    std::vector<double> weighted_k(s_count);
-    for (std::size_t s = 0; s < s_count; ++s) weighted_k[s] = subrays[s].weight * power_k_;
+    const std::vector<double> k = weighted_k(subrays);
     ray_terms(g, hits, scratch);
     const double* terms = scratch.ray_terms.data();
-    if (s_count == 1)
-        single_returns(g, hits, terms, weighted_k[0], scratch, out.stats);
+    if (linear_)
+        waveform_returns(g, hits, terms, k, scratch, out.stats);
+    else if (subrays.size() == 1)
+        single_returns(g, hits, terms, k[0], scratch, out.stats);
     else
-        clustered_returns(g, hits, terms, weighted_k, scratch, out.stats);
+        clustered_returns(g, hits, terms, k, scratch, out.stats);
     out.stats.rays += hits.size();
     draw(g.first, scratch);
     electrons(scratch);
@@ -201,6 +216,10 @@ void PulseShader::detect(const std::vector<Hit>& hits, ShadeScratch& scratch) co
     const std::size_t np = scratch.pending.size();
     scratch.n_other.assign(np, 0.0);
     scratch.voids.resize(np);
+    if (linear_) {  // the waveform's threshold has decided already
+        std::fill(scratch.voids.begin(), scratch.voids.end(), 0.0);
+        return;
+    }
     if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
         scratch.cos_sun.resize(np);
         scratch.diffuse.resize(np);

@@ -7,11 +7,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "mirage/core/point.hpp"
+#include "mirage/physics/linear_detector.hpp"
 #include "mirage/physics/radiometry.hpp"
+#include "mirage/physics/waveform.hpp"
 #include "mirage/render/render_stats.hpp"
 #include "mirage/render/setup.hpp"
 #include "ray_batch.hpp"
@@ -35,6 +38,10 @@ struct PendingReturn {
     std::uint32_t k;    // index among its pulse's reported returns, nearest first
 };
 
+// Echoes a waveform detector reports per pulse, at most (LAS return numbers go to 15; the
+// receiver keeps up to sensor::kMaxReturns of them).
+inline constexpr std::size_t kMaxEchoes = 8;
+
 // A worker's buffers for shading one batch: the draws of all its returns are made at once, in
 // loops whose iterations are independent (a pulse's draws are one long dependency chain, and
 // drawn pulse by pulse they left the core waiting on it).
@@ -57,6 +64,10 @@ struct ShadeScratch {
     std::vector<std::int64_t> steps;         // (that range in resolution steps)
     std::array<std::vector<double>, 3> dir;  // and beam direction, turned by the jitter
     std::array<std::vector<double>, 3> at;   // and point position (local frame)
+    // The linear-mode detector's (waveform_returns.cpp): one pulse at a time.
+    std::vector<physics::Arrival> arrivals;
+    std::vector<double> wave, wave_z, counts;
+    std::vector<physics::Echo> echoes;
 };
 
 // What shading appends to: point records in pulse order, and the counts.
@@ -79,6 +90,16 @@ class PulseShader {
     void shade(const RayBatch& g, const std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                ShadedPoints& out) const;
+    // Pulse i's arrivals (docs/time-resolved.md §2): one per sub-ray hit within the receiver's
+    // ranges, expected photo-electrons and two-way delay, unsorted. Returns whether a sub-ray hit
+    // closer than the minimum range.
+    bool pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                        const std::vector<double>& weighted_k, std::uint32_t i,
+                        std::vector<physics::Arrival>& out) const;
+    // Per ray brdf·cos θ·τ²/R² into scratch.ray_terms (shading.cpp), and each sub-ray's power
+    // per unit of it.
+    void ray_terms(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
+    std::vector<double> weighted_k(const std::vector<sensor::SubRay>& subrays) const;
 
   private:
     // A return: sub-ray hits merged into one echo.
@@ -116,8 +137,16 @@ class PulseShader {
     void add_returns(std::uint32_t i, std::uint32_t first_hit, std::span<const Return> returns,
                      ShadeScratch& scratch) const;
 
+    // waveform_returns.cpp: the linear-mode detector's returns.
+    void waveform_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                          const std::vector<double>& weighted_k, ShadeScratch& scratch,
+                          RenderStats& stats) const;
+    double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
+    void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
+    void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
+                    ShadeScratch& scratch) const;
+
     // shading.cpp: pending returns -> points.
-    void ray_terms(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void electrons(ShadeScratch& scratch) const;
     void draw(std::uint64_t first, ShadeScratch& scratch) const;
     void detect(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
@@ -148,6 +177,10 @@ class PulseShader {
     std::vector<double> brdf_constant_;      // by material index: ρ_d/π (+ retro gain), or −1
     std::vector<double> diffuse_brdf_;       // by material index: ρ_d/π (the sunlit background)
     std::vector<PointFields> point_fields_;  // by material index
+    // The linear-mode detector, when the sensor has one (docs/time-resolved.md §7).
+    std::optional<physics::LinearDetector> linear_;
+    std::optional<physics::WaveformSynth> synth_;
+    double sigma_p_ns_ = 0;  // the pulse's RMS width
 };
 
 }  // namespace mirage::render

@@ -59,6 +59,8 @@ std::string describe(const SensorModel& m) {
         b.pulse_width_s > 0 ? b.pulse_energy_j / b.pulse_width_s : 0.0, b.divergence_rad * 1e3,
         b.profile == BeamProfile::Gaussian ? "gaussian" : "tophat", b.sub_rays,
         b.laser_bandwidth_m * 1e9);
+    if (b.footprint_radius != 1.0)
+        out += fmt::format("  footprint: sub-rays out to {:.2f} 1/e^2 radii\n", b.footprint_radius);
     const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
     const double ifov = pixel_d / (rx.f_number * rx.aperture_diameter_m);
     const double per_sigma = noise_sigma_for_floor(1.0, b, rx);
@@ -76,6 +78,19 @@ std::string describe(const SensorModel& m) {
                        rx.max_range_m, lambertian_electrons(b, rx, 0.1, rx.max_range_m));
     out += fmt::format("  noise: range sigma {:.4f} m, jitter sigma {:.4f} mrad\n",
                        m.noise.range_sigma_m, m.noise.jitter_sigma_rad * 1e3);
+    if (m.detector == DetectorKind::Linear) {
+        const LinearDetectorParams& d = m.linear;
+        out += fmt::format(
+            "  detector: linear, Gaussian pulse FWHM {:.3f} ns, digitiser {:.3f} GS/s {} bits "
+            "offset {:.1f} counts, gain {:.3f} counts/pe, APD M {:.1f} k {:.3f}, thermal {:.2f} "
+            "pe rms, dark {:.3f} nA, threshold {}\n",
+            b.pulse_width_s * 1e9, d.sample_rate_gsps, d.bits, d.offset_counts,
+            d.gain_counts_per_pe, d.apd_gain, d.apd_k, d.thermal_noise_pe, d.dark_current_na,
+            d.threshold_counts > 0 ? fmt::format("{:.1f} counts", d.threshold_counts)
+                                   : std::string("4 sigma of the noise floor"));
+    } else {
+        out += "  detector: discrete (sub-ray hits merged c*tau/2 apart)\n";
+    }
     out += fmt::format("  LAS: point source id {}, scan angle = {}\n", m.point_source_id,
                        m.airborne ? "across-track angle (+ right)" : "elevation");
     const std::string tail = channel_tail(m);

@@ -123,7 +123,7 @@ class Reader {
 void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
     r.only_keys(n, "beam",
                 {"wavelength_nm", "pulse_energy_uj", "pulse_width_ns", "divergence_mrad", "profile",
-                 "sub_rays", "laser_bandwidth_nm"});
+                 "sub_rays", "laser_bandwidth_nm", "footprint_radius"});
     if (n["wavelength_nm"])
         b.wavelength_m = 1e-9 * r.number(n["wavelength_nm"], "beam.wavelength_nm", 200, 12000);
     if (n["pulse_energy_uj"])
@@ -145,6 +145,12 @@ void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
         } else {
             r.fail("beam.profile", "'" + p + "' is not gaussian or tophat");
         }
+    }
+    if (n["footprint_radius"]) {
+        b.footprint_radius = r.number(n["footprint_radius"], "beam.footprint_radius", 0, 3, true);
+        if (b.profile == BeamProfile::TopHat && b.footprint_radius != 1.0)
+            r.fail("beam.footprint_radius",
+                   "a top-hat beam has no light beyond its radius (use 1)");
     }
     if (n["sub_rays"]) {
         const auto v = r.integer(n["sub_rays"], "beam.sub_rays", -1'000'000, 1'000'000);
@@ -197,6 +203,50 @@ void read_noise(const Reader& r, const YAML::Node& n, NoiseParams& x) {
     if (n["jitter_sigma_mrad"])
         x.jitter_sigma_rad =
             1e-3 * r.number(n["jitter_sigma_mrad"], "noise.jitter_sigma_mrad", 0, 100);
+}
+
+// `detector:`: `type: discrete` (default) or `linear` with the digitiser and APD settings
+// (docs/time-resolved.md §7); those settings are refused with the discrete detector, where they
+// would do nothing.
+void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
+    r.only_keys(n, "detector",
+                {"type", "sample_rate_gsps", "bits", "offset_counts", "gain_counts_per_pe",
+                 "apd_gain", "apd_k", "thermal_noise_pe", "dark_current_na", "threshold_counts"});
+    if (n["type"]) {
+        const std::string t = r.text(n["type"], "detector.type");
+        if (t == "discrete")
+            m.detector = DetectorKind::Discrete;
+        else if (t == "linear")
+            m.detector = DetectorKind::Linear;
+        else
+            r.fail("detector.type", "'" + t + "' is not discrete or linear");
+    }
+    LinearDetectorParams& p = m.linear;
+    const auto get = [&](const char* key, double lo, double hi, bool lo_open, double& out) {
+        if (!n[key]) return;
+        if (m.detector != DetectorKind::Linear)
+            r.fail(join_path("detector", key), "only with detector.type: linear");
+        out = r.number(n[key], join_path("detector", key), lo, hi, lo_open);
+    };
+    get("sample_rate_gsps", 0, 100, true, p.sample_rate_gsps);
+    get("offset_counts", 0, 4e9, false, p.offset_counts);
+    get("gain_counts_per_pe", 0, 1e6, true, p.gain_counts_per_pe);
+    get("apd_gain", 1, 1e4, false, p.apd_gain);
+    get("apd_k", 0, 1, false, p.apd_k);
+    get("thermal_noise_pe", 0, 1e6, false, p.thermal_noise_pe);
+    get("dark_current_na", 0, 1e6, false, p.dark_current_na);
+    get("threshold_counts", 0, 4e9, false, p.threshold_counts);
+    if (n["bits"]) {
+        if (m.detector != DetectorKind::Linear)
+            r.fail("detector.bits", "only with detector.type: linear");
+        p.bits = static_cast<int>(r.integer(n["bits"], "detector.bits", 1, 32));
+    }
+    const double full = std::ldexp(1.0, p.bits) - 1.0;
+    if (p.offset_counts >= full)
+        r.fail("detector.offset_counts", num(p.offset_counts) + " is not below full scale " +
+                                             num(full) + " of " + std::to_string(p.bits) + " bits");
+    if (p.threshold_counts >= full - p.offset_counts)
+        r.fail("detector.threshold_counts", "leaves no room below full scale " + num(full));
 }
 
 std::shared_ptr<const ScanPattern> read_spinning(const Reader& r, const YAML::Node& n,
@@ -312,9 +362,9 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     const Reader r(path);
     const YAML::Node root = r.load(text);
     if (!root.IsMap()) r.fail("", "expected a mapping with 'base' and/or sensor sections");
-    r.only_keys(
-        root, "",
-        {"base", "name", "beam", "receiver", "noise", "spinning", "airborne", "point_source_id"});
+    r.only_keys(root, "",
+                {"base", "name", "beam", "receiver", "noise", "detector", "spinning", "airborne",
+                 "point_source_id"});
 
     SensorModel m;
     std::string base_name;
@@ -338,6 +388,7 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (root["beam"]) read_beam(r, root["beam"], m.beam);
     if (root["receiver"]) read_receiver(r, root["receiver"], m.receiver);
     if (root["noise"]) read_noise(r, root["noise"], m.noise);
+    if (root["detector"]) read_detector(r, root["detector"], m);
 
     if (root["spinning"]) {
         const auto* base = dynamic_cast<const SpinningPattern*>(m.scan.get());

@@ -39,15 +39,6 @@ render::RenderOptions quiet(std::uint64_t pulses) {
     return o;
 }
 
-// Plane facing the sensor at distance d along +x, tilted by `tilt` about the z axis.
-Eigen::Affine3d plane_frame(double d, double tilt) {
-    Eigen::Affine3d f = Eigen::Affine3d::Identity();
-    f.translate(Eigen::Vector3d(d, 0, 0));
-    f.rotate(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitZ()));
-    f.rotate(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));  // z -> −x
-    return f;
-}
-
 TEST(PipelineAccuracy, plane_ranges_within_half_millimetre_rms_up_to_200_m) {
     double worst_rms = 0, worst_max = 0;
     for (double d : {1.0, 10.0, 50.0, 100.0, 190.0}) {

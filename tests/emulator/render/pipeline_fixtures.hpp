@@ -2,6 +2,7 @@
 // Small scenes, scan patterns and sinks for pipeline tests.
 #pragma once
 #include <functional>
+#include <numbers>
 #include <vector>
 
 #include "mirage/render/embree_renderer.hpp"
@@ -61,6 +62,15 @@ inline scene::Mesh quad(double size, const Eigen::Affine3d& frame) {
     m.triangles = {{0, 1, 2}, {0, 2, 3}};
     m.materials = {0, 0};
     return m;
+}
+
+// Plane facing the sensor at distance d along +x, tilted by `tilt` about the z axis.
+inline Eigen::Affine3d plane_frame(double d, double tilt) {
+    Eigen::Affine3d f = Eigen::Affine3d::Identity();
+    f.translate(Eigen::Vector3d(d, 0, 0));
+    f.rotate(Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitZ()));
+    f.rotate(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()));  // z -> −x
+    return f;
 }
 
 inline scene::Scene plane_scene(double size, const Eigen::Affine3d& frame,

@@ -218,6 +218,45 @@ TEST(SensorYaml, errors_name_the_key_path) {
     EXPECT_EQ(error_of("base: vlp16\nbeam: {sub_rays: 7}\n"), "");
 }
 
+// `detector:` selects the linear-mode digitiser and sets it; its settings are refused with the
+// discrete detector (they would do nothing) and out of range, each naming the key.
+TEST(SensorYaml, detector_section_selects_and_sets_the_linear_detector) {
+    test::TempDir dir;
+    const SensorModel m = load_sensor_yaml(write(dir, "w.yaml", R"(base: vlp16
+beam: {footprint_radius: 2}
+detector: {type: linear, sample_rate_gsps: 2, bits: 14, offset_counts: 200, apd_gain: 80,
+           apd_k: 0.3, thermal_noise_pe: 1.5, dark_current_na: 3, threshold_counts: 40,
+           gain_counts_per_pe: 2.5}
+)"));
+    EXPECT_EQ(m.detector, DetectorKind::Linear);
+    EXPECT_EQ(m.linear.sample_rate_gsps, 2.0);
+    EXPECT_EQ(m.linear.bits, 14);
+    EXPECT_EQ(m.linear.offset_counts, 200.0);
+    EXPECT_EQ(m.linear.apd_gain, 80.0);
+    EXPECT_EQ(m.linear.apd_k, 0.3);
+    EXPECT_EQ(m.linear.thermal_noise_pe, 1.5);
+    EXPECT_EQ(m.linear.dark_current_na, 3.0);
+    EXPECT_EQ(m.linear.threshold_counts, 40.0);
+    EXPECT_EQ(m.linear.gain_counts_per_pe, 2.5);
+    EXPECT_EQ(m.beam.footprint_radius, 2.0);
+    EXPECT_EQ(preset("vlp16").detector, DetectorKind::Discrete);
+
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {bits: 12}\n"),
+              "detector.bits: only with detector.type: linear");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: geiger}\n"),
+              "detector.type: 'geiger' is not discrete or linear");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, bits: 33}\n"),
+              "detector.bits: 33 is outside [1, 32]");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, apd_k: 1.5}\n"),
+              "detector.apd_k: 1.5 is outside [0, 1]");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, bits: 8, offset_counts: 300}\n"),
+              "detector.offset_counts: 300 is not below full scale 255 of 8 bits");
+    EXPECT_EQ(error_of("base: vlp16\nbeam: {profile: tophat, footprint_radius: 2}\n"),
+              "beam.footprint_radius: a top-hat beam has no light beyond its radius (use 1)");
+    EXPECT_EQ(error_of("base: vlp16\nbeam: {footprint_radius: 4}\n"),
+              "beam.footprint_radius: 4 is outside (0, 3]");
+}
+
 TEST(SensorYaml, resolve_takes_a_preset_name_or_a_file) {
     EXPECT_EQ(resolve_sensor("hdl32e").name, "hdl32e");
     test::TempDir dir;

@@ -21,6 +21,9 @@ struct BeamParams {
     double divergence_rad = 3e-3;  // full angle (1/e² diameter for Gaussian)
     BeamProfile profile = BeamProfile::Gaussian;
     int sub_rays = 1;  // footprint samples per pulse: 1, 7, 19, 37, ... (hex rings)
+    // Radius the sub-rays reach, in 1/e² radii (Gaussian profile only): 1 drops the 13.5 % of
+    // the energy outside it, 2 keeps all but 0.03 % (docs/physics.md §3.5).
+    double footprint_radius = 1.0;
 };
 
 // The most returns a pulse reports (the renderer separates at most this many surfaces).
@@ -88,6 +91,26 @@ struct WireIdentity {
     std::string model;  // the codec's model name: vlp16, hdl64e-s3, os1-64-1024x10, ...
 };
 
+// How the receiver turns light into returns (docs/time-resolved.md §7).
+enum class DetectorKind : std::uint8_t {
+    Discrete,  // sub-ray hits merged into echoes c·τ/2 apart (physics.md §2.3): the default
+    Linear,    // linear-mode APD and waveform digitiser (physics::LinearDetector)
+};
+
+// The linear-mode detector's settings (sensor YAML `detector:`; physics::LinearDetector checks
+// them and documents each).
+struct LinearDetectorParams {
+    double sample_rate_gsps = 1.0;    // digitiser clock
+    int bits = 12;                    // counts 0 … 2^bits − 1
+    double offset_counts = 100.0;     // the digitiser's reading without light
+    double gain_counts_per_pe = 4.0;  // counts per primary photo-electron in a sample
+    double apd_gain = 50.0;           // M: sets the excess noise
+    double apd_k = 0.02;              // ionisation ratio k (silicon ~0.02)
+    double thermal_noise_pe = 2.0;    // amplifier noise, rms per sample, referred to the input
+    double dark_current_na = 0.0;     // primary dark current, referred to the input
+    double threshold_counts = 0.0;    // above the baseline; 0: 4σ of the pulse's noise floor
+};
+
 struct SensorModel {
     std::string name;
     WireIdentity wire;  // None: no packet format (airborne scanners, sensors built from scratch)
@@ -95,6 +118,8 @@ struct SensorModel {
     BeamParams beam;
     ReceiverParams receiver;
     NoiseParams noise;
+    DetectorKind detector = DetectorKind::Discrete;
+    LinearDetectorParams linear;  // read when detector == Linear
     std::uint16_t point_source_id = 1;
     bool airborne = false;  // LAS scan angle = off-nadir, previews top-down
 };
@@ -121,7 +146,9 @@ struct SubRay {
     float dx = 0, dy = 0;
     float weight = 1;
 };
-std::vector<SubRay> footprint(int n, BeamProfile profile, double divergence_rad);
+// `extent`: the outer ring's radius in beam radii (BeamParams::footprint_radius).
+std::vector<SubRay> footprint(int n, BeamProfile profile, double divergence_rad,
+                              double extent = 1.0);
 // True for the hexagonal counts footprint() accepts: 1 + 3·k·(k + 1), k ≥ 0.
 bool is_hex_count(int n);
 

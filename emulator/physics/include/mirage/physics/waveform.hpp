@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: Apache-2.0
+// A pulse's expected photo-electrons in time (docs/time-resolved.md §2, §4): each path's arrival
+// spread by the emitted pulse's shape and sampled on the digitiser's clock.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mirage/physics/pulse_shape.hpp"
+
+namespace mirage::physics {
+
+// One path's contribution to a pulse (docs/time-resolved.md §2).
+struct Arrival {
+    std::int64_t delay_ps = 0;  // two-way path time after emission (range = c·t/2)
+    float pe = 0;               // expected photo-electrons of the path
+    std::uint32_t hit = 0;      // the batch's hit of the path's last surface
+};
+
+// Samples the expected waveform n(t_j)·Δt at t_j = j·Δt after emission. The shape is tabulated
+// once on a grid of Δt/kSubSteps and interpolated linearly, so a waveform costs a few
+// multiply-adds per arrival and sample instead of an exponential.
+class WaveformSynth {
+  public:
+    static constexpr int kSubSteps = 32;
+    // ConfigError naming `source` unless 0 < sample_period_ns ≤ 1e3 and the period is a whole
+    // number of picoseconds.
+    WaveformSynth(const PulseShape& shape, double sample_period_ns, const std::string& source);
+
+    std::int64_t period_ps() const { return period_ps_; }
+    double period_ns() const { return 1e-3 * static_cast<double>(period_ps_); }
+    // Samples an arrival at `delay_ps` reaches: [first_sample, end_sample).
+    std::int64_t first_sample(std::int64_t delay_ps) const;
+    std::int64_t end_sample(std::int64_t delay_ps) const;
+    // out[j − j0] += pe·s(t_j − t_a)·Δt for the samples of `out` (t in ns, s in 1/ns).
+    void add(const Arrival& a, std::int64_t j0, std::span<double> out) const;
+
+  private:
+    std::int64_t period_ps_ = 0;
+    double begin_ns_ = 0, end_ns_ = 0, step_ns_ = 0;
+    std::vector<double> table_;  // s(begin + m·step)·Δt, one zero past the end
+};
+
+}  // namespace mirage::physics

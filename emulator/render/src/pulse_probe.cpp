@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mirage/render/pulse_probe.hpp"
+
+#include <algorithm>
+
+#include "ray_batch.hpp"
+#include "shading.hpp"
+
+namespace mirage::render {
+
+std::vector<physics::Arrival> pulse_arrivals(const Setup& setup, std::uint64_t pulse) {
+    const RayBatchBuilder builder(setup.sensor, setup.trajectory, setup.mount, setup.options.start);
+    const PulseShader shader(setup);
+    RayBatch g;
+    builder.build(pulse, 1, g);
+    std::vector<Hit> hits(g.rays.size());
+    setup.renderer.intersect(g.rays, hits);
+    ShadeScratch scratch;
+    shader.ray_terms(g, hits, scratch);
+    std::vector<physics::Arrival> out;
+    shader.pulse_arrivals(g, hits, scratch.ray_terms.data(), shader.weighted_k(builder.subrays()),
+                          0, out);
+    std::sort(out.begin(), out.end(),
+              [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
+    return out;
+}
+
+}  // namespace mirage::render

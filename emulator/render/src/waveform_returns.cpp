@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: Apache-2.0
+// The linear-mode detector in the pipeline (docs/time-resolved.md §2, §7): per pulse, the
+// sub-ray hits become arrivals, the arrivals an expected waveform on the digitiser's clock, the
+// waveform digitised counts (noise drawn from the pulse's stream 1) and the counts echoes.
+#include <algorithm>
+#include <cmath>
+
+#include "mirage/core/rng.hpp"
+#include "shading.hpp"
+
+namespace mirage::render {
+namespace {
+
+constexpr double kPsPerMeterTwoWay = 2e12 / physics::kSpeedOfLightMPerS;
+constexpr double kMetersPerNsOneWay = 0.5e-9 * physics::kSpeedOfLightMPerS;
+constexpr std::uint32_t kWaveformStream = 1;  // stream 0: the discrete returns' draws
+
+}  // namespace
+
+bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits,
+                                 const double* terms, const std::vector<double>& weighted_k,
+                                 std::uint32_t i, std::vector<physics::Arrival>& out) const {
+    const auto& rx = sensor_.receiver;
+    const double e_per_w = radiometry_.laser_electrons(1.0);
+    const std::uint32_t r = g.first_ray[i];
+    bool close = false;
+    out.clear();
+    for (std::uint32_t s = 0; s < weighted_k.size(); ++s) {
+        const Hit& h = hits[r + s];
+        if (!h.hit()) continue;
+        if (h.t < rx.min_range_m) {
+            close = true;
+            continue;
+        }
+        if (h.t > rx.max_range_m) continue;
+        double t = terms[r + s];
+        if (t < 0.0)  // a specular lobe: the BRDF depends on incidence
+            t = -t *
+                physics::monostatic_brdf(scene_.materials[h.material], incidence(g.rays[r + s], h));
+        const double pe = weighted_k[s] * t * e_per_w;
+        if (!(pe > 0.0)) continue;
+        out.push_back({std::llround(h.t * kPsPerMeterTwoWay), static_cast<float>(pe), r + s});
+    }
+    return close;
+}
+
+void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hits,
+                                   const double* terms, const std::vector<double>& weighted_k,
+                                   ShadeScratch& scratch, RenderStats& stats) const {
+    auto& arrivals = scratch.arrivals;
+    for (std::uint32_t i = 0; i < g.specs.size(); ++i) {
+        const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals);
+        stats.pulses++;
+        if (arrivals.empty()) {
+            if (close)
+                stats.too_close++;
+            else
+                stats.misses++;
+            continue;
+        }
+        std::sort(arrivals.begin(), arrivals.end(),
+                  [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
+        detect_waveform(g.first + i, floor_pe_per_sample(hits, scratch), scratch);
+        if (scratch.echoes.empty()) {
+            stats.voids++;  // light arrived, nothing crossed the threshold
+            continue;
+        }
+        add_echoes(i, arrivals, scratch);
+    }
+}
+
+// Background (sun on the strongest arrival's surface, path radiance) and dark photo-electrons
+// expected in one sample.
+double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const {
+    double rate_per_ns = linear_->dark_rate_per_ns();
+    if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+        const auto strongest =
+            std::max_element(scratch.arrivals.begin(), scratch.arrivals.end(),
+                             [](const auto& a, const auto& b) { return a.pe < b.pe; });
+        const Hit& h = hits[strongest->hit];
+        const double cos_sun =
+            sun_up_ ? h.nx * to_sun_.x() + h.ny * to_sun_.y() + h.nz * to_sun_.z() : 0.0;
+        rate_per_ns += radiometry_.background_electrons(h.t, diffuse_brdf_[h.material], cos_sun) /
+                       (radiometry_.integration_time_s() * 1e9);
+    }
+    return rate_per_ns * synth_->period_ns();
+}
+
+// The pulse's echoes into scratch.echoes, in time order: one waveform per group of arrivals
+// whose pulses overlap (a footprint on two objects far apart costs two short waveforms, not
+// the samples between them).
+void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
+                                  ShadeScratch& scratch) const {
+    const auto& arrivals = scratch.arrivals;
+    const bool noisy = opt_.noise;
+    core::PulseRng rng(opt_.seed, pulse, kWaveformStream);
+    scratch.echoes.resize(kMaxEchoes);
+    std::size_t found = 0;
+    for (std::size_t a = 0; a < arrivals.size() && found < kMaxEchoes;) {
+        const std::int64_t j0 = synth_->first_sample(arrivals[a].delay_ps);
+        std::int64_t j1 = synth_->end_sample(arrivals[a].delay_ps);
+        std::size_t b = a + 1;
+        for (; b < arrivals.size() && synth_->first_sample(arrivals[b].delay_ps) <= j1; ++b)
+            j1 = std::max(j1, synth_->end_sample(arrivals[b].delay_ps));
+        const auto n = static_cast<std::size_t>(j1 - j0);
+        scratch.wave.assign(n, noisy ? floor_pe : 0.0);
+        for (std::size_t k = a; k < b; ++k) synth_->add(arrivals[k], j0, scratch.wave);
+        scratch.counts.resize(n);
+        if (noisy) {
+            scratch.wave_z.resize(n);
+            for (double& z : scratch.wave_z) z = rng.normal();
+        }
+        linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
+                          scratch.counts.data());
+        found += linear_->find_echoes(scratch.counts.data(), n, j0, noisy ? floor_pe : 0.0, noisy,
+                                      scratch.echoes.data() + found, kMaxEchoes - found);
+        a = b;
+    }
+    scratch.echoes.resize(found);
+}
+
+// The reported echoes as pending returns: the strongest when one is kept, else the nearest
+// ones (as the discrete detector chooses). Each takes material and normal from the strongest
+// arrival within 2σ_p of it (else the nearest arrival).
+void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
+                             ShadeScratch& scratch) const {
+    auto& echoes = scratch.echoes;
+    const int max_returns = std::clamp(sensor_.receiver.max_returns, 1, 8);
+    if (max_returns == 1) {
+        const auto best = std::max_element(
+            echoes.begin(), echoes.end(), [](const auto& a, const auto& b) { return a.pe < b.pe; });
+        std::rotate(echoes.begin(), best, best + 1);
+        echoes.resize(1);
+    } else if (echoes.size() > std::size_t(max_returns)) {
+        echoes.resize(static_cast<std::size_t>(max_returns));
+    }
+    const double e_per_w = radiometry_.laser_electrons(1.0);
+    std::uint32_t k = 0;
+    for (const physics::Echo& e : echoes) {
+        const double t_ps = e.time_ns * 1e3, window = 2e3 * sigma_p_ns_;
+        std::uint32_t strong = 0, near = 0;
+        double best = -1, nearest = INFINITY;
+        for (const physics::Arrival& a : arrivals) {
+            const double d = std::abs(static_cast<double>(a.delay_ps) - t_ps);
+            if (d <= window && a.pe > best) {
+                best = a.pe;
+                strong = a.hit;
+            }
+            if (d < nearest) {
+                nearest = d;
+                near = a.hit;
+            }
+        }
+        const std::uint32_t hit = best >= 0 ? strong : near;
+        scratch.pending.push_back({e.time_ns * kMetersPerNsOneWay, e.pe / e_per_w, i, hit, k++});
+    }
+}
+
+}  // namespace mirage::render

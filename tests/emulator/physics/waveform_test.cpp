@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: Apache-2.0
+// The expected waveform and the linear-mode detector against closed forms
+// (docs/time-resolved.md §4, §7, §10).
+#include "mirage/physics/waveform.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "mirage/core/error.hpp"
+#include "mirage/core/rng.hpp"
+#include "mirage/physics/linear_detector.hpp"
+
+namespace {
+
+using namespace mirage::physics;
+
+struct Wave {
+    std::int64_t j0 = 0;
+    std::vector<double> n;
+};
+
+Wave synth(const WaveformSynth& w, const std::vector<Arrival>& arrivals) {
+    std::int64_t lo = INT64_MAX, hi = INT64_MIN;
+    for (const Arrival& a : arrivals) {
+        lo = std::min(lo, w.first_sample(a.delay_ps));
+        hi = std::max(hi, w.end_sample(a.delay_ps));
+    }
+    Wave out{lo, std::vector<double>(static_cast<std::size_t>(hi - lo), 0.0)};
+    for (const Arrival& a : arrivals) w.add(a, lo, out.n);
+    return out;
+}
+
+std::vector<Echo> echoes(const LinearDetector& d, const Wave& w) {
+    std::vector<double> counts(w.n.size());
+    d.digitise(w.n.data(), nullptr, w.n.size(), counts.data());
+    std::vector<Echo> e(8);
+    e.resize(d.find_echoes(counts.data(), counts.size(), w.j0, 0.0, false, e.data(), e.size()));
+    return e;
+}
+
+TEST(Waveform, one_arrival_has_its_energy_centroid_and_the_pulse_width) {
+    const PulseShape s = PulseShape::gaussian(4.0, "test");
+    const WaveformSynth w(s, 1.0, "test");
+    for (std::int64_t delay : {100'000, 123'456, 667'001}) {
+        const Wave v = synth(w, {{delay, 250.0f, 0}});
+        double m0 = 0, m1 = 0, m2 = 0;
+        for (std::size_t j = 0; j < v.n.size(); ++j) {
+            const double t = static_cast<double>(v.j0 + static_cast<std::int64_t>(j));  // ns
+            m0 += v.n[j];
+            m1 += v.n[j] * t;
+            m2 += v.n[j] * t * t;
+        }
+        const double mean = m1 / m0;
+        EXPECT_NEAR(m0, 250.0, 250.0 * 1e-4);
+        EXPECT_NEAR(mean * 1e3, static_cast<double>(delay), 1.0);  // ps
+        EXPECT_NEAR(std::sqrt(m2 / m0 - mean * mean), s.sigma_ns(), s.sigma_ns() * 5e-3);
+    }
+}
+
+// Discrete and waveform modes agree within 1 mm on a single facet: one arrival's echo, at any
+// phase of the sample clock.
+TEST(LinearDetector, noise_free_echo_of_one_arrival_is_within_1_mm_at_any_clock_phase) {
+    const PulseShape s = PulseShape::gaussian(4.0, "test");
+    const WaveformSynth w(s, 1.0, "test");
+    const LinearDetector d(LinearDetectorParams{}, "test");
+    double worst_mm = 0;
+    for (std::int64_t delay = 400'000; delay < 401'000; delay += 37) {
+        const auto e = echoes(d, synth(w, {{delay, 500.0f, 0}}));
+        ASSERT_EQ(e.size(), 1U) << delay;
+        const double err_mm = (e[0].time_ns * 1e3 - static_cast<double>(delay)) * 0.1499;
+        worst_mm = std::max(worst_mm, std::abs(err_mm));
+        EXPECT_NEAR(e[0].sigma_ns, s.sigma_ns(), 0.01 * s.sigma_ns());
+        EXPECT_NEAR(e[0].pe, 500.0, 5.0);
+    }
+    EXPECT_LT(worst_mm, 1.0);
+    std::printf("worst range error of a noise-free single echo: %.4f mm\n", worst_mm);
+}
+
+// Two equal echoes show two maxima exactly when Δt > 2σ_p, i.e. ΔR > c·σ_p: the smallest
+// separation that resolves is 2σ_p within one sample, at several clock phases.
+TEST(LinearDetector, two_equal_echoes_resolve_when_their_distance_exceeds_c_sigma) {
+    const PulseShape s = PulseShape::gaussian(4.0, "test");
+    const WaveformSynth w(s, 1.0, "test");
+    const LinearDetector d(LinearDetectorParams{}, "test");
+    for (std::int64_t phase : {0, 250, 500, 750}) {
+        const std::int64_t t1 = 300'000 + phase;
+        std::int64_t first_split = -1;
+        for (std::int64_t dt = 0; dt <= 8000; dt += 10) {
+            const auto e = echoes(d, synth(w, {{t1, 300.0f, 0}, {t1 + dt, 300.0f, 1}}));
+            if (e.size() == 2 && first_split < 0) first_split = dt;
+            if (first_split >= 0) {
+                EXPECT_EQ(e.size(), 2U) << "dt " << dt << " after a split";
+            }
+        }
+        ASSERT_GE(first_split, 0);
+        EXPECT_NEAR(static_cast<double>(first_split), 2e3 * s.sigma_ns(), 1000.0) << phase;
+    }
+}
+
+TEST(LinearDetector, excess_noise_follows_mcintyre) {
+    auto f = [](double m, double k) {
+        LinearDetectorParams p;
+        p.apd_gain = m;
+        p.apd_k = k;
+        return LinearDetector(p, "test").excess_noise();
+    };
+    EXPECT_DOUBLE_EQ(f(1.0, 0.3), 1.0);
+    EXPECT_DOUBLE_EQ(f(50.0, 1.0), 50.0);
+    EXPECT_DOUBLE_EQ(f(50.0, 0.0), 2.0 - 1.0 / 50.0);
+    EXPECT_NEAR(f(100.0, 0.02), 0.02 * 100 + 0.98 * (2 - 0.01), 1e-12);
+}
+
+// Sample noise: variance g²(F·n + σ_th²) (+ 1/12 count² of rounding) within 2 % over 2e5 draws.
+TEST(LinearDetector, sample_noise_has_the_shot_excess_and_thermal_variance) {
+    LinearDetectorParams p;
+    p.bits = 16;
+    p.offset_counts = 1000;
+    const LinearDetector d(p, "test");
+    constexpr std::size_t kN = 200'000;
+    std::vector<double> n(kN, 100.0), z(kN), c(kN);
+    mirage::core::PulseRng rng(7, 1, 1);
+    for (double& v : z) v = rng.normal();
+    d.digitise(n.data(), z.data(), kN, c.data());
+    double m = 0, v = 0;
+    for (double x : c) m += x;
+    m /= kN;
+    for (double x : c) v += (x - m) * (x - m);
+    v /= kN - 1;
+    const double g = p.gain_counts_per_pe;
+    const double want = g * g * (d.excess_noise() * 100.0 + 4.0) + 1.0 / 12;
+    EXPECT_NEAR(v, want, 0.02 * want);
+    EXPECT_NEAR(m, 1000.0 + g * 100.0, 4 * std::sqrt(want / kN));  // 4 standard errors
+}
+
+TEST(LinearDetector, impossible_settings_are_config_errors_naming_the_key) {
+    auto fails = [](auto set, const char* key) {
+        LinearDetectorParams p;
+        set(p);
+        try {
+            LinearDetector d(p, "s.yaml");
+            ADD_FAILURE() << key << " accepted";
+        } catch (const mirage::ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+        }
+    };
+    fails([](auto& p) { p.bits = 0; }, "detector.bits");
+    fails([](auto& p) { p.bits = 33; }, "detector.bits");
+    fails([](auto& p) { p.apd_k = 1.5; }, "detector.apd_k");
+    fails([](auto& p) { p.gain_counts_per_pe = 0; }, "detector.gain_counts_per_pe");
+    fails([](auto& p) { p.threshold_counts = 5000; }, "detector.threshold_counts");
+    fails([](auto& p) { p.sample_rate_gsps = 0; }, "detector.sample_rate_gsps");
+    EXPECT_THROW(WaveformSynth(PulseShape::gaussian(4.0, "t"), 0.0, "s.yaml"), mirage::ConfigError);
+}
+
+}  // namespace
