@@ -389,6 +389,13 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (root["receiver"]) read_receiver(r, root["receiver"], m.receiver);
     if (root["noise"]) read_noise(r, root["noise"], m.noise);
     if (root["detector"]) read_detector(r, root["detector"], m);
+    // The void rule belongs to the discrete detector; the linear one decides by its threshold.
+    if (m.detector == DetectorKind::Linear && root["receiver"])
+        for (const char* key : {"threshold_gamma", "noise_irradiance_sigma"})
+            if (root["receiver"][key])
+                r.fail(join_path("receiver", key),
+                       "the discrete detector's void rule: with detector.type: linear, set "
+                       "detector.threshold_counts and detector.thermal_noise_pe");
 
     if (root["spinning"]) {
         const auto* base = dynamic_cast<const SpinningPattern*>(m.scan.get());

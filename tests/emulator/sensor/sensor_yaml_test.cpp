@@ -253,6 +253,9 @@ detector: {type: linear, sample_rate_gsps: 2, bits: 14, offset_counts: 200, apd_
               "detector.offset_counts: 300 is not below full scale 255 of 8 bits");
     EXPECT_EQ(error_of("base: vlp16\nbeam: {profile: tophat, footprint_radius: 2}\n"),
               "beam.footprint_radius: a top-hat beam has no light beyond its radius (use 1)");
+    EXPECT_EQ(error_of("base: vlp16\nreceiver: {threshold_gamma: 2}\ndetector: {type: linear}\n"),
+              "receiver.threshold_gamma: the discrete detector's void rule: with detector.type: "
+              "linear, set detector.threshold_counts and detector.thermal_noise_pe");
     EXPECT_EQ(error_of("base: vlp16\nbeam: {footprint_radius: 4}\n"),
               "beam.footprint_radius: 4 is outside (0, 3]");
 }

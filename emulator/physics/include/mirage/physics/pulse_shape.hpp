@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The emitted pulse's temporal shape s(t), unit area, for time-resolved radiometry
-// (docs/time-resolved.md §4). Not yet used by the renderer: the waveform detector will read it.
+// (docs/time-resolved.md §4): the linear-mode detector samples it (physics::WaveformSynth).
 #pragma once
 #include <string>
 #include <vector>
