@@ -48,6 +48,24 @@ void markdown_throughput(std::ostream& md, const BenchReport& r) {
             fig(t.ratio_max));
 }
 
+void markdown_detectors(std::ostream& md, const BenchReport& r) {
+    if (r.detectors.empty()) return;
+    md << "\n## Waveform detector against the discrete one (same rays, same run)\n\n"
+          "The same job with `detector.type: linear` (1 GS/s digitiser, noise on) and with the "
+          "discrete detector, and the Embree ceiling of those rays, interleaved; the best run of "
+          "each (docs/time-resolved.md §12).\n\n"
+          "| sensor | sub-rays | pulses | discrete M pulses/s | waveform M pulses/s | waveform / "
+          "discrete | ceiling M pulses/s | waveform / ceiling | waveform M points/s |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& d : r.detectors)
+        md << fmt::format(
+            "| {} | {} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} |\n", d.sensor,
+            d.sub_rays, d.pulses, fig(d.discrete_pulses_per_s / 1e6),
+            fig(d.waveform_pulses_per_s / 1e6), fig(d.to_discrete()),
+            fig(d.ceiling_pulses_per_s / 1e6), fig(d.to_ceiling()),
+            fig(d.waveform_points_per_s / 1e6));
+}
+
 void markdown_errors(std::ostream& md, const BenchReport& r) {
     md << "## Run time against error (VLP-16, demo drive, noise off)\n\n"
           "Each render against a denser reference (37 sub-rays); the last row is that "
@@ -92,6 +110,7 @@ void write_markdown(const BenchReport& r, const std::string& path) {
         r.triangles_placed, r.unique_triangles, fig(r.scene_seconds), fig(r.bvh_build_seconds),
         fig(double(r.bvh_bytes) / 1e6), fig(per_triangle(r)));
     markdown_throughput(md, r);
+    markdown_detectors(md, r);
     md << fmt::format(
         "\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} points).\n\n",
         fig(r.las_points_per_s / 1e6), fig(r.las_mb_per_s), r.las_points);
@@ -113,6 +132,18 @@ nlohmann::ordered_json throughput_json(const ThroughputRow& t) {
             {"repeats", t.repeats},
             {"ratio_min", t.ratio_min},
             {"ratio_max", t.ratio_max}};
+}
+
+nlohmann::ordered_json detector_json(const DetectorRow& d) {
+    return {{"sensor", d.sensor},
+            {"sub_rays", d.sub_rays},
+            {"pulses", d.pulses},
+            {"repeats", d.repeats},
+            {"discrete_pulses_per_s", d.discrete_pulses_per_s},
+            {"waveform_pulses_per_s", d.waveform_pulses_per_s},
+            {"ceiling_pulses_per_s", d.ceiling_pulses_per_s},
+            {"waveform_to_discrete", d.to_discrete()},
+            {"waveform_to_ceiling", d.to_ceiling()}};
 }
 
 nlohmann::ordered_json error_json(const ErrorRow& e) {
@@ -151,9 +182,11 @@ std::string report_json(const BenchReport& r) {
                                 {"las_points_per_s", r.las_points_per_s},
                                 {"las_mb_per_s", r.las_mb_per_s},
                                 {"throughput", nlohmann::ordered_json::array()},
+                                {"waveform_detector", nlohmann::ordered_json::array()},
                                 {"time_vs_error", nlohmann::ordered_json::array()},
                                 {"bvh_quality", nlohmann::ordered_json::array()}};
     for (const auto& t : r.throughput) j["throughput"].push_back(throughput_json(t));
+    for (const auto& d : r.detectors) j["waveform_detector"].push_back(detector_json(d));
     for (const auto& e : r.errors) j["time_vs_error"].push_back(error_json(e));
     for (const auto& b : r.bvh) j["bvh_quality"].push_back(bvh_json(b));
     return j.dump(2) + "\n";

@@ -25,6 +25,23 @@ struct ThroughputRow {
     }
 };
 
+// The linear-mode (waveform) detector against the discrete one on the same rays and against the
+// same-run ceiling: each the best of `repeats` interleaved runs.
+struct DetectorRow {
+    std::string sensor;
+    int sub_rays = 19;
+    std::uint64_t pulses = 0;
+    int repeats = 1;
+    double discrete_pulses_per_s = 0, waveform_pulses_per_s = 0, ceiling_pulses_per_s = 0;
+    double waveform_points_per_s = 0, discrete_points_per_s = 0;
+    double to_discrete() const {
+        return discrete_pulses_per_s > 0 ? waveform_pulses_per_s / discrete_pulses_per_s : 0;
+    }
+    double to_ceiling() const {
+        return ceiling_pulses_per_s > 0 ? waveform_pulses_per_s / ceiling_pulses_per_s : 0;
+    }
+};
+
 // Error of a render against a denser reference (same BVH: its quality never changes a hit).
 struct ErrorRow {
     int sub_rays = 1;
@@ -50,6 +67,7 @@ struct BenchReport {
     double scene_seconds = 0, bvh_build_seconds = 0;
     std::uint64_t triangles_placed = 0, unique_triangles = 0, bvh_bytes = 0;
     std::vector<ThroughputRow> throughput;
+    std::vector<DetectorRow> detectors;
     double las_points_per_s = 0, las_mb_per_s = 0;
     std::uint64_t las_points = 0;
     std::vector<ErrorRow> errors;

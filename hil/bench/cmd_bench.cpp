@@ -60,10 +60,9 @@ void add_pair(ThroughputRow& row, int k, const Ceiling& ceiling, const render::R
     }
 }
 
-// One sensor and sub-ray count. Pipeline and ceiling alternate, so a stretch of load from
-// elsewhere on the machine disturbs one run of each kind, not all runs of one kind.
-ThroughputRow throughput_row(const BenchBase& base, const Job& shared, const char* sensor,
-                             const char* trajectory, int sub_rays, const Opts& o) {
+// The job of one benchmark row: the shared town and BVH, this sensor, trajectory and sub-rays.
+Job row_job(const BenchBase& base, const Job& shared, const char* sensor, const char* trajectory,
+            int sub_rays, const Opts& o) {
     JobInputs in = base.inputs;
     in.sensor = sensor;
     in.trajectory = trajectory;
@@ -71,6 +70,14 @@ ThroughputRow throughput_row(const BenchBase& base, const Job& shared, const cha
     in.sub_rays = sub_rays;
     Job job = load_job_with_scene(in, base.town, base.scene_seconds, false);
     job.renderer = shared.renderer;
+    return job;
+}
+
+// One sensor and sub-ray count. Pipeline and ceiling alternate, so a stretch of load from
+// elsewhere on the machine disturbs one run of each kind, not all runs of one kind.
+ThroughputRow throughput_row(const BenchBase& base, const Job& shared, const char* sensor,
+                             const char* trajectory, int sub_rays, const Opts& o) {
+    Job job = row_job(base, shared, sensor, trajectory, sub_rays, o);
     ThroughputRow row;
     row.sensor = sensor;
     row.sub_rays = sub_rays;
@@ -110,6 +117,50 @@ void bench_throughput(const BenchBase& base, const Job& shared, const Opts& o,
             if (o.quick && s == 19 && o.sub_rays.empty()) continue;
             report.throughput.push_back(throughput_row(base, shared, c.sensor, c.trajectory, s, o));
         }
+    }
+}
+
+// One sensor's detectors on the same job: discrete, waveform and the ceiling, interleaved.
+DetectorRow detector_row(const BenchBase& base, const Job& shared, const char* sensor,
+                         const char* trajectory, int sub_rays, const Opts& o) {
+    Job job = row_job(base, shared, sensor, trajectory, sub_rays, o);
+    DetectorRow row;
+    row.sensor = sensor;
+    row.sub_rays = sub_rays;
+    row.pulses = job.sensor.scan->pulse_count(job.options.duration);
+    row.repeats = o.quick && !o.repeat_given ? 1 : o.repeat;
+    const auto rate = [](const render::RenderStats& s, bool points) {
+        return double(points ? s.points : s.pulses) / s.seconds;
+    };
+    for (int k = 0; k < row.repeats; ++k) {
+        job.sensor.detector = sensor::DetectorKind::Discrete;
+        const render::RenderStats d = run_pipeline_to_null(job);
+        job.sensor.detector = sensor::DetectorKind::Linear;
+        const render::RenderStats w = run_pipeline_to_null(job);
+        row.discrete_pulses_per_s = std::max(row.discrete_pulses_per_s, rate(d, false));
+        row.discrete_points_per_s = std::max(row.discrete_points_per_s, rate(d, true));
+        row.waveform_pulses_per_s = std::max(row.waveform_pulses_per_s, rate(w, false));
+        row.waveform_points_per_s = std::max(row.waveform_points_per_s, rate(w, true));
+        row.ceiling_pulses_per_s =
+            std::max(row.ceiling_pulses_per_s, trace_ceiling(job.setup()).pulses_per_s());
+    }
+    fmt::print(
+        "{:>11} sub-rays {:>2}: waveform {:6.3f} M pulses/s | discrete {:6.3f} | ratio {:.2f} | "
+        "ceiling {:6.3f}, waveform/ceiling {:.2f}\n",
+        sensor, sub_rays, row.waveform_pulses_per_s / 1e6, row.discrete_pulses_per_s / 1e6,
+        row.to_discrete(), row.ceiling_pulses_per_s / 1e6, row.to_ceiling());
+    return row;
+}
+
+// The waveform detector's rows (docs/time-resolved.md §12): 19 sub-rays (--quick: 7).
+void bench_detectors(const BenchBase& base, const Job& shared, const Opts& o, BenchReport& report) {
+    const int sub_rays = o.quick ? 7 : 19;
+    for (auto [sensor, trajectory] :
+         {std::pair{"vlp16", "demo-car"}, {"als-mirror", "demo-flight"}}) {
+        if (!o.sensors.empty() &&
+            std::find(o.sensors.begin(), o.sensors.end(), sensor) == o.sensors.end())
+            continue;
+        report.detectors.push_back(detector_row(base, shared, sensor, trajectory, sub_rays, o));
     }
 }
 
@@ -178,6 +229,7 @@ void run_bench(const Opts& o) {
     base.inputs.threads = threads;
     const Job shared = load_shared(base, report);
     bench_throughput(base, shared, o, report);
+    bench_detectors(base, shared, o, report);
     if (!o.throughput_only) {  // a partial run writes no report files
         bench_las_rate(shared, o, report);
         bench_errors(base, o.quick, report);

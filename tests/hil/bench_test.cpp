@@ -79,6 +79,19 @@ void check_bvh(const json& r) {
     EXPECT_GT(b.at("rays").get<std::uint64_t>(), 0u);
 }
 
+// The waveform rows: both sensors, every rate measured, the ceiling above the waveform run.
+void check_detectors(const json& r) {
+    const json& rows = r.at("waveform_detector");
+    ASSERT_EQ(rows.size(), 2u);
+    for (const json& d : rows) {
+        EXPECT_EQ(d.at("sub_rays").get<int>(), 7);
+        EXPECT_GT(measured(d, "discrete_pulses_per_s"), 0.0);
+        EXPECT_GT(measured(d, "waveform_pulses_per_s"), 0.0);
+        EXPECT_GT(measured(d, "waveform_to_discrete"), 0.0);
+        EXPECT_LE(measured(d, "waveform_to_ceiling"), 1.1) << d.dump();
+    }
+}
+
 // One run (a few seconds of rendering) for all checks; a missing key throws, failing the test.
 TEST(Bench, quick_run_reports_figures_that_hold) {
     TempDir tmp;
@@ -90,6 +103,7 @@ TEST(Bench, quick_run_reports_figures_that_hold) {
     check_throughput(report);
     check_errors(report);
     check_bvh(report);
+    check_detectors(report);
     EXPECT_NE(read_text(tmp.file("time_vs_error.svg")).find("<circle"), std::string::npos);
     EXPECT_NE(read_text(tmp.file("report.md")).find("| vlp16 | 7 |"), std::string::npos);
 }

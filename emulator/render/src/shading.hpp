@@ -143,6 +143,8 @@ class PulseShader {
                           RenderStats& stats) const;
     double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
+    void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
+                      ShadeScratch& scratch) const;
     void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
                     ShadeScratch& scratch) const;
 

@@ -39,7 +39,9 @@ bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits
                 physics::monostatic_brdf(scene_.materials[h.material], incidence(g.rays[r + s], h));
         const double pe = weighted_k[s] * t * e_per_w;
         if (!(pe > 0.0)) continue;
-        out.push_back({std::llround(h.t * kPsPerMeterTwoWay), static_cast<float>(pe), r + s});
+        // h.t > 0: rounding by adding ½ (llround was a library call per sub-ray).
+        const auto delay = static_cast<std::int64_t>(h.t * kPsPerMeterTwoWay + 0.5);
+        out.push_back({delay, static_cast<float>(pe), r + s});
     }
     return close;
 }
@@ -93,7 +95,7 @@ void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
                                   ShadeScratch& scratch) const {
     const auto& arrivals = scratch.arrivals;
     const bool noisy = opt_.noise;
-    core::PulseRng rng(opt_.seed, pulse, kWaveformStream);
+    std::uint32_t block = 0;  // the pulse's next Philox block of stream 1
     scratch.echoes.resize(kMaxEchoes);
     std::size_t found = 0;
     for (std::size_t a = 0; a < arrivals.size() && found < kMaxEchoes;) {
@@ -106,10 +108,7 @@ void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
         scratch.wave.assign(n, noisy ? floor_pe : 0.0);
         for (std::size_t k = a; k < b; ++k) synth_->add(arrivals[k], j0, scratch.wave);
         scratch.counts.resize(n);
-        if (noisy) {
-            scratch.wave_z.resize(n);
-            for (double& z : scratch.wave_z) z = rng.normal();
-        }
+        if (noisy) draw_normals(pulse, n, block, scratch);
         linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
                           scratch.counts.data());
         found += linear_->find_echoes(scratch.counts.data(), n, j0, noisy ? floor_pe : 0.0, noisy,
@@ -117,6 +116,29 @@ void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
         a = b;
     }
     scratch.echoes.resize(found);
+}
+
+// n standard normals of the pulse's stream 1 into scratch.wave_z, from Philox block `block` on
+// (advanced past them): block b's word k is sample 4b + k. Batched, so the generator vectorises.
+void PulseShader::draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
+                               ShadeScratch& scratch) const {
+    const std::size_t blocks = (n + 3) / 4;
+    scratch.pulse.assign(blocks, pulse);
+    scratch.block.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b)
+        scratch.block[b] = block + static_cast<std::uint32_t>(b);
+    block += static_cast<std::uint32_t>(blocks);
+    for (auto& w : scratch.words) w.resize(blocks);
+    core::philox_blocks(opt_.seed, kWaveformStream, scratch.pulse.data(), scratch.block.data(),
+                        blocks,
+                        {scratch.words[0].data(), scratch.words[1].data(), scratch.words[2].data(),
+                         scratch.words[3].data()});
+    scratch.wave_z.resize(4 * blocks);
+    for (std::size_t k = 0; k < 4; ++k) {
+        scratch.normals[k].resize(blocks);
+        core::normals_of_words(scratch.words[k].data(), blocks, scratch.normals[k].data());
+        for (std::size_t b = 0; b < blocks; ++b) scratch.wave_z[4 * b + k] = scratch.normals[k][b];
+    }
 }
 
 // The reported echoes as pending returns: the strongest when one is kept, else the nearest

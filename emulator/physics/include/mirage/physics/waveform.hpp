@@ -19,27 +19,37 @@ struct Arrival {
 };
 
 // Samples the expected waveform n(t_j)·Δt at t_j = j·Δt after emission. The shape is tabulated
-// once on a grid of Δt/kSubSteps and interpolated linearly, so a waveform costs a few
-// multiply-adds per arrival and sample instead of an exponential.
+// once on a grid of Δt/kSubSteps (by phase) and interpolated linearly, so a waveform costs a
+// vectorised multiply-add per arrival and sample instead of an exponential.
 class WaveformSynth {
   public:
-    static constexpr int kSubSteps = 32;
+    static constexpr std::size_t kSubSteps = 32;
     // ConfigError naming `source` unless 0 < sample_period_ns ≤ 1e3 and the period is a whole
     // number of picoseconds.
     WaveformSynth(const PulseShape& shape, double sample_period_ns, const std::string& source);
 
     std::int64_t period_ps() const { return period_ps_; }
     double period_ns() const { return 1e-3 * static_cast<double>(period_ps_); }
-    // Samples an arrival at `delay_ps` reaches: [first_sample, end_sample).
-    std::int64_t first_sample(std::int64_t delay_ps) const;
-    std::int64_t end_sample(std::int64_t delay_ps) const;
+    // Samples an arrival at `delay_ps` reaches: [first_sample, end_sample). The first is
+    // ceil((t_a + begin)/Δt) in integer ps, so the shape is never read before its start.
+    std::int64_t first_sample(std::int64_t delay_ps) const {
+        const std::int64_t lo = delay_ps + begin_ps_;
+        return lo >= 0 ? (lo + period_ps_ - 1) / period_ps_ : -((-lo) / period_ps_);
+    }
+    std::int64_t end_sample(std::int64_t delay_ps) const {
+        const std::int64_t hi = delay_ps + end_ps_;
+        return (hi >= 0 ? hi / period_ps_ : -((-hi + period_ps_ - 1) / period_ps_)) + 1;
+    }
     // out[j − j0] += pe·s(t_j − t_a)·Δt for the samples of `out` (t in ns, s in 1/ns).
     void add(const Arrival& a, std::int64_t j0, std::span<double> out) const;
 
   private:
-    std::int64_t period_ps_ = 0;
+    void trim(const PulseShape& shape);
+
+    std::int64_t period_ps_ = 0, begin_ps_ = 0, end_ps_ = 0;
     double begin_ns_ = 0, end_ns_ = 0, step_ns_ = 0;
-    std::vector<double> table_;  // s(begin + m·step)·Δt, one zero past the end
+    std::size_t row_ = 0;        // entries per phase row
+    std::vector<double> table_;  // (kSubSteps + 1) rows of s(begin + (p + kSubSteps·i)·step)·Δt
 };
 
 }  // namespace mirage::physics
