@@ -70,6 +70,11 @@ std::string polygon(int facets) {
            "}\n";
 }
 const std::string kAir = "--trajectory static:0,0,300 --duration 0.02";
+// The linear-mode waveform detector with its defaults, and with one setting changed.
+const std::string kLinear = kVlp16 + "detector: {type: linear}\n";
+std::string linear(const std::string& setting) {
+    return kVlp16 + "detector: {type: linear, " + setting + "}\n";
+}
 
 std::vector<KeyCase> cases() {
     const std::string geo = "georef: {epsg: 32632, anchor: [500000, 5000000, 200]}\n";
@@ -178,6 +183,19 @@ std::vector<KeyCase> cases() {
         {"beam.profile", "", "", kVlp16 + "beam: {sub_rays: 7}\n",
          kVlp16 + "beam: {sub_rays: 7, profile: tophat}\n"},
         {"beam.sub_rays", "", "", kVlp16, kVlp16 + "beam: {sub_rays: 7}\n"},
+        {"beam.pulse_shape", "", "", kLinear, kLinear + "beam: {pulse_shape: pulse.txt}\n"},
+        {"beam.footprint_radius", "", "", kVlp16 + "beam: {sub_rays: 7}\n",
+         kVlp16 + "beam: {sub_rays: 7, footprint_radius: 2}\n"},
+        {"detector.type", "", "", kVlp16, kLinear},
+        {"detector.sample_rate_gsps", "", "", kLinear, linear("sample_rate_gsps: 2")},
+        {"detector.bits", "", "", kLinear, linear("bits: 8")},
+        {"detector.offset_counts", "", "", kLinear, linear("offset_counts: 4000")},
+        {"detector.gain_counts_per_pe", "", "", kLinear, linear("gain_counts_per_pe: 1")},
+        {"detector.apd_gain", "", "", kLinear, linear("apd_gain: 200")},
+        {"detector.apd_k", "", "", kLinear, linear("apd_k: 0.5")},
+        {"detector.thermal_noise_pe", "", "", kLinear, linear("thermal_noise_pe: 20")},
+        {"detector.dark_current_na", "", "", kLinear, linear("dark_current_na: 100")},
+        {"detector.threshold_counts", "", "", kLinear, linear("threshold_counts: 500")},
         {"receiver.aperture_mm", "", "", kVlp16, kVlp16 + "receiver: {aperture_mm: 30}\n"},
         {"receiver.f_number", "", "", kVlp16, kVlp16 + "receiver: {f_number: 2}\n", day},
         {"receiver.detector_area_mm2", "", "", kVlp16,
@@ -222,8 +240,10 @@ void write_file(const std::filesystem::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
 }
 
-// The mesh and raster inputs the cases name: two different OBJ/PLY meshes and PGM rasters.
+// The mesh, raster and pulse inputs the cases name: two different OBJ/PLY meshes, PGM rasters
+// and a measured pulse shape.
 void write_inputs(const std::filesystem::path& dir) {
+    write_file(dir / "pulse.txt", "0 0\n1 1\n6 0\n");
     write_file(dir / "a.obj", "v 6 -2 0\nv 10 -2 0\nv 8 2 3\nf 1 2 3\n");
     write_file(dir / "b.ply",
                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"

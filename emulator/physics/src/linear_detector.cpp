@@ -139,6 +139,8 @@ std::size_t LinearDetector::find_echoes(const double* counts, std::size_t n, std
         double sum = 0;
         for (std::size_t j = lo; j < hi; ++j) sum += counts[j] - off;
         out[e].pe = sum / g;
+        out[e].first = j0 + static_cast<std::int64_t>(lo);
+        out[e].end = j0 + static_cast<std::int64_t>(hi);
         lo = hi;
     }
     return found;

@@ -8,7 +8,7 @@
 
 namespace mirage::physics {
 
-WaveformSynth::WaveformSynth(const PulseShape& shape, double sample_period_ns,
+WaveformSynth::WaveformSynth(const sensor::PulseShape& shape, double sample_period_ns,
                              const std::string& source) {
     const double ps = sample_period_ns * 1e3;
     if (!(sample_period_ns > 0 && sample_period_ns <= 1e3) || std::abs(ps - std::round(ps)) > 1e-6)
@@ -33,7 +33,7 @@ WaveformSynth::WaveformSynth(const PulseShape& shape, double sample_period_ns,
 
 // The support, without tails below kTail of the peak: a Gaussian's ±8σ becomes ±4.8σ, dropping
 // 1.6·10⁻⁶ of its area (samples that would each add less than 10⁻⁵ of the peak).
-void WaveformSynth::trim(const PulseShape& shape) {
+void WaveformSynth::trim(const sensor::PulseShape& shape) {
     constexpr double kTail = 1e-5;
     constexpr int kProbe = 4096;
     const double b = shape.begin_ns(), e = shape.end_ns(), h = (e - b) / kProbe;

@@ -118,10 +118,14 @@ PulseShader::PulseShader(const Setup& setup)
     if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     if (point_fields_.empty()) point_fields_.push_back({});
     if (sensor_.detector == sensor::DetectorKind::Linear) {
-        // The pulse: a Gaussian whose FWHM is the beam's pulse width (docs/time-resolved.md §4).
-        const auto shape = physics::PulseShape::gaussian(sensor_.beam.pulse_width_s * 1e9,
-                                                         "sensor '" + sensor_.name + "'");
+        // The pulse: the measured shape, or a Gaussian of the beam's FWHM (time-resolved.md §4).
+        const std::string source = "sensor '" + sensor_.name + "'";
+        const auto& b = sensor_.beam;
+        const auto shape = b.pulse_t_ns.empty()
+                               ? sensor::PulseShape::gaussian(b.pulse_width_s * 1e9, source)
+                               : sensor::PulseShape::tabulated(b.pulse_t_ns, b.pulse_power, source);
         sigma_p_ns_ = shape.sigma_ns();
+        matched_ = !b.pulse_t_ns.empty();
         linear_.emplace(sensor_.linear, "sensor '" + sensor_.name + "'");
         synth_.emplace(shape, 1.0 / sensor_.linear.sample_rate_gsps,
                        "sensor '" + sensor_.name + "': detector.sample_rate_gsps");

@@ -66,7 +66,7 @@ struct ShadeScratch {
     std::array<std::vector<double>, 3> at;   // and point position (local frame)
     // The linear-mode detector's (waveform_returns.cpp): one pulse at a time.
     std::vector<physics::Arrival> arrivals;
-    std::vector<double> wave, wave_z, counts;
+    std::vector<double> wave, wave_z, counts, pulse_template;
     std::vector<physics::Echo> echoes;
 };
 
@@ -147,6 +147,8 @@ class PulseShader {
                       ShadeScratch& scratch) const;
     void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
                     ShadeScratch& scratch) const;
+    double matched_time_ns(const physics::Echo& e, std::int64_t j0, double baseline,
+                           ShadeScratch& scratch) const;
 
     // shading.cpp: pending returns -> points.
     void electrons(ShadeScratch& scratch) const;
@@ -183,6 +185,7 @@ class PulseShader {
     std::optional<physics::LinearDetector> linear_;
     std::optional<physics::WaveformSynth> synth_;
     double sigma_p_ns_ = 0;  // the pulse's RMS width
+    bool matched_ = false;   // a measured pulse: echoes timed by the matched filter
 };
 
 }  // namespace mirage::render

@@ -59,6 +59,9 @@ std::string describe(const SensorModel& m) {
         b.pulse_width_s > 0 ? b.pulse_energy_j / b.pulse_width_s : 0.0, b.divergence_rad * 1e3,
         b.profile == BeamProfile::Gaussian ? "gaussian" : "tophat", b.sub_rays,
         b.laser_bandwidth_m * 1e9);
+    if (!b.pulse_t_ns.empty())
+        out += fmt::format("  pulse: measured shape from '{}', {} samples, FWHM {:.3f} ns\n",
+                           b.pulse_shape_file, b.pulse_t_ns.size(), b.pulse_width_s * 1e9);
     if (b.footprint_radius != 1.0)
         out += fmt::format("  footprint: sub-rays out to {:.2f} 1/e^2 radii\n", b.footprint_radius);
     const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
@@ -81,7 +84,7 @@ std::string describe(const SensorModel& m) {
     if (m.detector == DetectorKind::Linear) {
         const LinearDetectorParams& d = m.linear;
         out += fmt::format(
-            "  detector: linear, Gaussian pulse FWHM {:.3f} ns, digitiser {:.3f} GS/s {} bits "
+            "  detector: linear, pulse FWHM {:.3f} ns, digitiser {:.3f} GS/s {} bits "
             "offset {:.1f} counts, gain {:.3f} counts/pe, APD M {:.1f} k {:.3f}, thermal {:.2f} "
             "pe rms, dark {:.3f} nA, threshold {}\n",
             b.pulse_width_s * 1e9, d.sample_rate_gsps, d.bits, d.offset_counts,

@@ -14,6 +14,8 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/airborne.hpp"
+#include "mirage/sensor/pulse_shape.hpp"
+#include "mirage/sensor/pulse_table.hpp"
 #include "mirage/sensor/sensor.hpp"
 #include "mirage/sensor/spinning.hpp"
 
@@ -116,14 +118,44 @@ class Reader {
         return n.Scalar();
     }
 
+    const std::string& path() const { return path_; }
+
   private:
     std::string path_;
 };
 
+// `beam.pulse_shape`: `gaussian` (of pulse_width_ns) or a file of the measured shape, relative
+// to the sensor file; its FWHM becomes the pulse width, so pulse_width_ns may not be given too.
+void read_pulse_shape(const Reader& r, const YAML::Node& n, BeamParams& b) {
+    const std::string v = r.text(n["pulse_shape"], "beam.pulse_shape");
+    b.pulse_t_ns.clear();
+    b.pulse_power.clear();
+    b.pulse_shape_file.clear();
+    if (v == "gaussian") return;
+    if (n["pulse_width_ns"])
+        r.fail("beam.pulse_width_ns", "comes from the FWHM of beam.pulse_shape '" + v + "'");
+    const std::filesystem::path file = std::filesystem::path(v).is_absolute()
+                                           ? std::filesystem::path(v)
+                                           : std::filesystem::path(r.path()).parent_path() / v;
+    PulseTable t;
+    try {
+        t = load_pulse_table(file.string());
+    } catch (const IoError& e) {
+        r.fail("beam.pulse_shape", e.what());
+    } catch (const ConfigError& e) {
+        r.fail("beam.pulse_shape", e.what());
+    }
+    const PulseShape shape = PulseShape::tabulated(t.t_ns, t.power, file.string());
+    b.pulse_width_s = 1e-9 * shape.fwhm_ns();
+    b.pulse_t_ns = std::move(t.t_ns);
+    b.pulse_power = std::move(t.power);
+    b.pulse_shape_file = file.string();
+}
+
 void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
     r.only_keys(n, "beam",
                 {"wavelength_nm", "pulse_energy_uj", "pulse_width_ns", "divergence_mrad", "profile",
-                 "sub_rays", "laser_bandwidth_nm", "footprint_radius"});
+                 "sub_rays", "laser_bandwidth_nm", "footprint_radius", "pulse_shape"});
     if (n["wavelength_nm"])
         b.wavelength_m = 1e-9 * r.number(n["wavelength_nm"], "beam.wavelength_nm", 200, 12000);
     if (n["pulse_energy_uj"])
@@ -146,6 +178,7 @@ void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
             r.fail("beam.profile", "'" + p + "' is not gaussian or tophat");
         }
     }
+    if (n["pulse_shape"]) read_pulse_shape(r, n, b);
     if (n["footprint_radius"]) {
         b.footprint_radius = r.number(n["footprint_radius"], "beam.footprint_radius", 0, 3, true);
         if (b.profile == BeamProfile::TopHat && b.footprint_radius != 1.0)

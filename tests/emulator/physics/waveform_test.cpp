@@ -15,6 +15,7 @@
 namespace {
 
 using namespace mirage::physics;
+using mirage::sensor::PulseShape;
 
 struct Wave {
     std::int64_t j0 = 0;

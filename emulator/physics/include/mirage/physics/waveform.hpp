@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mirage/physics/pulse_shape.hpp"
+#include "mirage/sensor/pulse_shape.hpp"
 
 namespace mirage::physics {
 
@@ -26,7 +26,8 @@ class WaveformSynth {
     static constexpr std::size_t kSubSteps = 32;
     // ConfigError naming `source` unless 0 < sample_period_ns ≤ 1e3 and the period is a whole
     // number of picoseconds.
-    WaveformSynth(const PulseShape& shape, double sample_period_ns, const std::string& source);
+    WaveformSynth(const sensor::PulseShape& shape, double sample_period_ns,
+                  const std::string& source);
 
     std::int64_t period_ps() const { return period_ps_; }
     double period_ns() const { return 1e-3 * static_cast<double>(period_ps_); }
@@ -44,7 +45,7 @@ class WaveformSynth {
     void add(const Arrival& a, std::int64_t j0, std::span<double> out) const;
 
   private:
-    void trim(const PulseShape& shape);
+    void trim(const sensor::PulseShape& shape);
 
     std::int64_t period_ps_ = 0, begin_ps_ = 0, end_ps_ = 0;
     double begin_ns_ = 0, end_ns_ = 0, step_ns_ = 0;

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // The emitted pulse's temporal shape s(t), unit area, for time-resolved radiometry
 // (docs/time-resolved.md §4): the linear-mode detector samples it (physics::WaveformSynth).
+// The emitter's property, so it lives with the sensor (the YAML reader checks a measured one).
 #pragma once
 #include <string>
 #include <vector>
 
-namespace mirage::physics {
+namespace mirage::sensor {
 
 class PulseShape {
   public:
@@ -31,4 +32,4 @@ class PulseShape {
     std::vector<double> t_, p_;  // tabulated, centroid at 0, unit area; empty for a Gaussian
 };
 
-}  // namespace mirage::physics
+}  // namespace mirage::sensor

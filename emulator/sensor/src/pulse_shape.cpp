@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "mirage/physics/pulse_shape.hpp"
+#include "mirage/sensor/pulse_shape.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "mirage/core/error.hpp"
 
-namespace mirage::physics {
+namespace mirage::sensor {
 namespace {
 
 // 2·√(2 ln 2): FWHM of a Gaussian over its σ.
@@ -69,6 +69,10 @@ PulseShape PulseShape::tabulated(std::vector<double> t, std::vector<double> p,
     for (std::size_t i = 1; i < t.size(); ++i)
         add_moments(t[i - 1], t[i] - t[i - 1], p[i - 1], p[i], m);
     if (!(m[0] > 0)) fail(source, "the shape has no area");
+    // Times or powers so large that the moments overflow (found by fuzz_pulse_table).
+    if (!std::isfinite(m[0]) || !std::isfinite(m[1]) || !std::isfinite(m[2]) ||
+        !std::isfinite(m[2] / m[0] - (m[1] / m[0]) * (m[1] / m[0])))
+        fail(source, "the shape's moments overflow a double");
     const double centroid = m[1] / m[0];
     PulseShape s;
     s.sigma_ns_ = std::sqrt(std::max(0.0, m[2] / m[0] - centroid * centroid));
@@ -95,4 +99,4 @@ double PulseShape::operator()(double t_ns) const {
     return p_[j - 1] + u * (p_[j] - p_[j - 1]);
 }
 
-}  // namespace mirage::physics
+}  // namespace mirage::sensor

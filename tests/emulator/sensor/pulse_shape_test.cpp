@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The pulse's temporal shape (docs/time-resolved.md §4) against closed forms: unit area, the
 // Gaussian's σ = FWHM / 2.3548, a triangle's moments, and the two-echo resolution limit.
-#include "mirage/physics/pulse_shape.hpp"
+#include "mirage/sensor/pulse_shape.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 
 #include "mirage/core/error.hpp"
 
-namespace mirage::physics {
+namespace mirage::sensor {
 namespace {
 
 // ∫ t^k s(t) dt by the midpoint rule on n steps over the support.
@@ -94,4 +94,4 @@ TEST(PulseShape, impossible_shapes_are_config_errors_naming_the_input) {
 }
 
 }  // namespace
-}  // namespace mirage::physics
+}  // namespace mirage::sensor
