@@ -36,6 +36,22 @@ sensor::SensorModel waveform_sensor(std::vector<Eigen::Vector3f> dirs, int sub_r
     return s;
 }
 
+// One facet seen with the sensor's waveform detector and with the discrete one (noise off): the
+// points of each, one per direction, in pulse order.
+struct TwoDetectors {
+    std::vector<core::PointRecord> wave, disc;
+};
+TwoDetectors both_detectors(const scene::Scene& scene, const render::EmbreeRenderer& r,
+                            sensor::SensorModel sensor, std::size_t pulses) {
+    VectorSink wave, disc;
+    render::render(
+        {scene, r, sensor, core::Trajectory::fixed({}), {}, {}, options(pulses, false, 1)}, wave);
+    sensor.detector = sensor::DetectorKind::Discrete;
+    render::render(
+        {scene, r, sensor, core::Trajectory::fixed({}), {}, {}, options(pulses, false, 1)}, disc);
+    return {wave.points, disc.points};
+}
+
 // σ_t² of the expected waveform: the pulse's σ_p² plus the photo-electron-weighted variance of
 // the arrivals' delays (docs/time-resolved.md §4).
 double waveform_sigma2_ns2(const std::vector<physics::Arrival>& a, double sigma_p_ns) {
@@ -99,33 +115,15 @@ TEST(PipelineWaveform, discrete_and_waveform_ranges_agree_within_1_mm_on_single_
             render::EmbreeRenderer r(scene);
             std::vector<Eigen::Vector3f> dirs;
             for (int k = -5; k <= 5; ++k) dirs.push_back(unit(1, 0.02 * k, 0.01 * k));
-            auto sensor = waveform_sensor(dirs, 19, 3e-3, 1.0);
-            VectorSink wave, disc;
-            render::render({scene,
-                            r,
-                            sensor,
-                            core::Trajectory::fixed({}),
-                            {},
-                            {},
-                            options(dirs.size(), false, 1)},
-                           wave);
-            sensor.detector = sensor::DetectorKind::Discrete;
-            render::render({scene,
-                            r,
-                            sensor,
-                            core::Trajectory::fixed({}),
-                            {},
-                            {},
-                            options(dirs.size(), false, 1)},
-                           disc);
-            ASSERT_EQ(wave.points.size(), dirs.size()) << "tilt " << tilt_deg << " d " << d;
-            ASSERT_EQ(disc.points.size(), dirs.size());
+            const auto [wave, disc] =
+                both_detectors(scene, r, waveform_sensor(dirs, 19, 3e-3, 1.0), dirs.size());
+            ASSERT_EQ(wave.size(), dirs.size()) << "tilt " << tilt_deg << " d " << d;
+            ASSERT_EQ(disc.size(), dirs.size());
             for (std::size_t k = 0; k < dirs.size(); ++k) {
-                const double e = std::abs(double(wave.points[k].range_m) - disc.points[k].range_m);
+                const double e = std::abs(double(wave[k].range_m) - disc[k].range_m);
                 worst = std::max(worst, e);
                 EXPECT_LT(e, 1e-3) << "tilt " << tilt_deg << " d " << d << " pulse " << k;
-                EXPECT_NEAR(wave.points[k].n_laser, disc.points[k].n_laser,
-                            0.02 * disc.points[k].n_laser);
+                EXPECT_NEAR(wave[k].n_laser, disc[k].n_laser, 0.02 * disc[k].n_laser);
                 ++compared;
             }
         }
@@ -150,24 +148,11 @@ TEST(PipelineWaveform, a_skewed_measured_pulse_gives_no_range_bias) {
         sensor.beam.pulse_t_ns = {0, 1, 6};
         sensor.beam.pulse_power = {0, 1, 0};
         sensor.beam.pulse_width_s = 3e-9;  // the triangle's FWHM
-        VectorSink wave, disc;
-        const render::Setup setup{
-            scene, r, sensor, core::Trajectory::fixed({}), {}, {}, options(dirs.size(), false, 1)};
-        render::render(setup, wave);
-        auto discrete = sensor;
-        discrete.detector = sensor::DetectorKind::Discrete;
-        render::render({scene,
-                        r,
-                        discrete,
-                        core::Trajectory::fixed({}),
-                        {},
-                        {},
-                        options(dirs.size(), false, 1)},
-                       disc);
-        ASSERT_EQ(wave.points.size(), dirs.size());
-        ASSERT_EQ(disc.points.size(), dirs.size());
+        const auto [wave, disc] = both_detectors(scene, r, sensor, dirs.size());
+        ASSERT_EQ(wave.size(), dirs.size());
+        ASSERT_EQ(disc.size(), dirs.size());
         for (std::size_t k = 0; k < dirs.size(); ++k) {
-            const double e = std::abs(double(wave.points[k].range_m) - disc.points[k].range_m);
+            const double e = std::abs(double(wave[k].range_m) - disc[k].range_m);
             worst = std::max(worst, e);
             EXPECT_LT(e, tilt_deg == 0.0 ? 0.2e-3 : 1.5e-3)
                 << "tilt " << tilt_deg << " pulse " << k;
