@@ -141,6 +141,7 @@ class PulseShader {
     void waveform_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                           const std::vector<double>& weighted_k, ShadeScratch& scratch,
                           RenderStats& stats) const;
+    void merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const;
     double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
     void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,

@@ -46,6 +46,32 @@ bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits
     return close;
 }
 
+// Arrivals (sorted) less than Δt/32 apart merge into one at their photo-electron-weighted mean
+// delay, with the strongest one's hit: the waveform keeps its energy and centroid, and its
+// variance changes by less than (Δt/64)² (0.015 % of a 4 ns pulse's at 1 GS/s), while a footprint
+// on one facet square to the beam costs one synthesis instead of one per sub-ray.
+void PulseShader::merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const {
+    const double window_ps = 1e3 * synth_->period_ns() / physics::WaveformSynth::kSubSteps;
+    std::size_t out = 0;
+    for (std::size_t a = 0; a < arrivals.size();) {
+        const std::int64_t start = arrivals[a].delay_ps;
+        double pe = 0, pe_delay = 0, best = -1;
+        std::uint32_t hit = arrivals[a].hit;
+        std::size_t b = a;
+        for (; b < arrivals.size() && double(arrivals[b].delay_ps - start) < window_ps; ++b) {
+            pe += arrivals[b].pe;
+            pe_delay += double(arrivals[b].pe) * double(arrivals[b].delay_ps - start);
+            if (arrivals[b].pe > best) {
+                best = arrivals[b].pe;
+                hit = arrivals[b].hit;
+            }
+        }
+        arrivals[out++] = {start + std::llround(pe_delay / pe), static_cast<float>(pe), hit};
+        a = b;
+    }
+    arrivals.resize(out);
+}
+
 void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hits,
                                    const double* terms, const std::vector<double>& weighted_k,
                                    ShadeScratch& scratch, RenderStats& stats) const {
@@ -62,6 +88,7 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
         }
         std::sort(arrivals.begin(), arrivals.end(),
                   [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
+        merge_close_arrivals(arrivals);
         detect_waveform(g.first + i, floor_pe_per_sample(hits, scratch), scratch);
         if (scratch.echoes.empty()) {
             stats.voids++;  // light arrived, nothing crossed the threshold
