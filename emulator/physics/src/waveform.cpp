@@ -10,11 +10,10 @@ namespace mirage::physics {
 
 WaveformSynth::WaveformSynth(const sensor::PulseShape& shape, double sample_period_ns,
                              const std::string& source) {
-    const double ps = sample_period_ns * 1e3;
-    if (!(sample_period_ns > 0 && sample_period_ns <= 1e3) || std::abs(ps - std::round(ps)) > 1e-6)
+    if (!(sample_period_ns > 0 && sample_period_ns <= 1e3))
         throw ConfigError(source + ": the sample period " + std::to_string(sample_period_ns) +
-                          " ns must be a whole number of ps in (0, 1000] ns");
-    period_ps_ = static_cast<std::int64_t>(std::llround(ps));
+                          " ns must be in (0, 1000] ns");
+    period_ps_ = sample_period_ns * 1e3;
     trim(shape);
     begin_ps_ = static_cast<std::int64_t>(std::ceil(begin_ns_ * 1e3));
     end_ps_ = static_cast<std::int64_t>(std::ceil(end_ns_ * 1e3));
@@ -54,8 +53,8 @@ void WaveformSynth::add(const Arrival& a, std::int64_t j0, std::span<double> out
     const std::int64_t hi =
         std::min(end_sample(a.delay_ps), j0 + static_cast<std::int64_t>(out.size()));
     if (lo >= hi) return;
-    // Position in the shape of t_lo − t_a, from integer ps so it is exact (≥ 0 but for rounding).
-    const double u = 1e-3 * static_cast<double>(lo * period_ps_ - a.delay_ps);
+    // Position in the shape of t_lo − t_a (≥ 0 but for rounding).
+    const double u = 1e-3 * (double(lo) * period_ps_ - double(a.delay_ps));
     const double v = std::max(0.0, (u - begin_ns_) / step_ns_);
     const auto m = static_cast<std::size_t>(v);
     const double f = v - static_cast<double>(m), pe = a.pe;

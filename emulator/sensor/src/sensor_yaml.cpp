@@ -422,6 +422,12 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (root["receiver"]) read_receiver(r, root["receiver"], m.receiver);
     if (root["noise"]) read_noise(r, root["noise"], m.noise);
     if (root["detector"]) read_detector(r, root["detector"], m);
+    // A range gate shorter than the pulse could hold no echo (docs/time-resolved.md §9).
+    const double gate_ns = 2e9 * (m.receiver.max_range_m - m.receiver.min_range_m) / 299'792'458.0;
+    if (gate_ns < m.beam.pulse_width_s * 1e9)
+        r.fail(root["receiver"] ? "receiver.max_range_m" : "beam.pulse_width_ns",
+               "the range gate (" + num(gate_ns) + " ns two-way) is shorter than the pulse (" +
+                   num(m.beam.pulse_width_s * 1e9) + " ns)");
     // The void rule belongs to the discrete detector; the linear one decides by its threshold.
     if (m.detector == DetectorKind::Linear && root["receiver"])
         for (const char* key : {"threshold_gamma", "noise_irradiance_sigma"})

@@ -79,6 +79,24 @@ TEST(LinearDetector, noise_free_echo_of_one_arrival_is_within_1_mm_at_any_clock_
     std::printf("worst range error of a noise-free single echo: %.4f mm\n", worst_mm);
 }
 
+// A digitiser whose period is not a whole number of ps (3 GS/s: 333.3 ps) times echoes as well:
+// the sample clock is j·Δt in double.
+TEST(LinearDetector, a_3_gsps_clock_times_one_echo_within_1_mm) {
+    const PulseShape s = PulseShape::gaussian(4.0, "test");
+    const WaveformSynth w(s, 1.0 / 3.0, "test");
+    LinearDetectorParams p;
+    p.sample_rate_gsps = 3.0;
+    const LinearDetector d(p, "test");
+    double worst_mm = 0;
+    for (std::int64_t delay = 6'000'000; delay < 6'001'000; delay += 41) {
+        const auto e = echoes(d, synth(w, {{delay, 500.0f, 0}}));
+        ASSERT_EQ(e.size(), 1U) << delay;
+        worst_mm = std::max(worst_mm, std::abs(e[0].time_ns * 1e3 - double(delay)) * 0.1499);
+    }
+    EXPECT_LT(worst_mm, 1.0);
+    std::printf("3 GS/s, 900 m: worst range error of a noise-free echo %.4f mm\n", worst_mm);
+}
+
 // Two equal echoes show two maxima exactly when Δt > 2σ_p, i.e. ΔR > c·σ_p: the smallest
 // separation that resolves is 2σ_p within one sample, at several clock phases.
 TEST(LinearDetector, two_equal_echoes_resolve_when_their_distance_exceeds_c_sigma) {
@@ -97,6 +115,10 @@ TEST(LinearDetector, two_equal_echoes_resolve_when_their_distance_exceeds_c_sigm
         }
         ASSERT_GE(first_split, 0);
         EXPECT_NEAR(static_cast<double>(first_split), 2e3 * s.sigma_ns(), 1000.0) << phase;
+        std::printf(
+            "clock phase %3lld ps: two echoes first resolve at %lld ps apart (2 sigma_p = "
+            "%.0f ps, one sample = 1000 ps)\n",
+            static_cast<long long>(phase), static_cast<long long>(first_split), 2e3 * s.sigma_ns());
     }
 }
 
@@ -132,6 +154,8 @@ TEST(LinearDetector, sample_noise_has_the_shot_excess_and_thermal_variance) {
     const double g = p.gain_counts_per_pe;
     const double want = g * g * (d.excess_noise() * 100.0 + 4.0) + 1.0 / 12;
     EXPECT_NEAR(v, want, 0.02 * want);
+    std::printf("sample variance %.1f counts^2 against g^2(F n + th^2) + 1/12 = %.1f (%+.2f %%)\n",
+                v, want, 100 * (v / want - 1));
     EXPECT_NEAR(m, 1000.0 + g * 100.0, 4 * std::sqrt(want / kN));  // 4 standard errors
 }
 

@@ -161,6 +161,48 @@ TEST(PipelineWaveform, a_skewed_measured_pulse_gives_no_range_bias) {
     std::printf("skewed pulse, waveform vs discrete range: worst %.4f mm\n", worst * 1e3);
 }
 
+// Extreme digitiser and APD settings (1 bit, 32 bits with a huge gain, no thermal noise, a huge
+// dark current, the largest APD gain, the fastest and a slow clock, a threshold near full scale)
+// never crash and never write a NaN; every point lies inside the range gate.
+TEST(PipelineWaveform, extreme_detector_settings_give_finite_points_inside_the_gate) {
+    const auto scene = plane_scene(2000.0, plane_frame(30.0, 50 * kDeg));
+    render::EmbreeRenderer r(scene);
+    std::vector<Eigen::Vector3f> dirs;
+    for (int k = 0; k < 50; ++k) dirs.push_back(unit(1, 0.01 * (k % 10), 0.004 * (k % 7)));
+    const auto set = [](auto f) {
+        sensor::LinearDetectorParams p;
+        f(p);
+        return p;
+    };
+    const std::vector<sensor::LinearDetectorParams> cases = {
+        set([](auto& p) { p.bits = 1, p.offset_counts = 0; }),
+        set([](auto& p) { p.bits = 32, p.gain_counts_per_pe = 1e6; }),
+        set([](auto& p) { p.thermal_noise_pe = 0; }),
+        set([](auto& p) { p.dark_current_na = 1e6; }),
+        set([](auto& p) { p.apd_gain = 1e4, p.apd_k = 1; }),
+        set([](auto& p) { p.sample_rate_gsps = 100; }),
+        set([](auto& p) { p.sample_rate_gsps = 0.05; }),
+        set([](auto& p) { p.threshold_counts = 3990; }),
+    };
+    for (std::size_t c = 0; c < cases.size(); ++c) {
+        auto sensor = waveform_sensor(dirs, 7, 3e-3, 1.0);
+        sensor.linear = cases[c];
+        sensor.receiver.max_returns = 8;
+        VectorSink sink;
+        const auto stats = render::render(
+            {scene, r, sensor, core::Trajectory::fixed({}), {}, {}, options(400, true, 2)}, sink);
+        EXPECT_EQ(stats.pulses, 400U) << "case " << c;
+        for (const auto& p : sink.points) {
+            ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+                        std::isfinite(p.range_m) && std::isfinite(p.n_laser))
+                << "case " << c;
+            ASSERT_GE(p.range_m, 0.0f) << "case " << c;
+            ASSERT_LE(p.range_m, sensor.receiver.max_range_m + 10.0) << "case " << c;
+            ASSERT_LE(p.number_of_returns, 8) << "case " << c;
+        }
+    }
+}
+
 // With noise on, the waveform's draws come from each pulse's own stream: the same points on one
 // thread and on two.
 TEST(PipelineWaveform, noisy_waveforms_are_identical_on_any_thread_count) {

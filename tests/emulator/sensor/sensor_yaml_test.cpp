@@ -256,6 +256,9 @@ detector: {type: linear, sample_rate_gsps: 2, bits: 14, offset_counts: 200, apd_
     EXPECT_EQ(error_of("base: vlp16\nreceiver: {threshold_gamma: 2}\ndetector: {type: linear}\n"),
               "receiver.threshold_gamma: the discrete detector's void rule: with detector.type: "
               "linear, set detector.threshold_counts and detector.thermal_noise_pe");
+    EXPECT_EQ(error_of("base: vlp16\nreceiver: {min_range_m: 1, max_range_m: 1.5}\n"),
+              "receiver.max_range_m: the range gate (3.33564 ns two-way) is shorter than the pulse "
+              "(5 ns)");
     EXPECT_EQ(error_of("base: vlp16\nbeam: {footprint_radius: 4}\n"),
               "beam.footprint_radius: 4 is outside (0, 3]");
 }

@@ -2,6 +2,7 @@
 // A pulse's expected photo-electrons in time (docs/time-resolved.md §2, §4): each path's arrival
 // spread by the emitted pulse's shape and sampled on the digitiser's clock.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -24,22 +25,22 @@ struct Arrival {
 class WaveformSynth {
   public:
     static constexpr std::size_t kSubSteps = 32;
-    // ConfigError naming `source` unless 0 < sample_period_ns ≤ 1e3 and the period is a whole
-    // number of picoseconds.
+    // ConfigError naming `source` unless 0 < sample_period_ns ≤ 1e3. The period need not be a
+    // whole number of ps (3 GS/s: 333.3 ps): sample times are j·Δt in double, exact to far below
+    // a ps over any gate.
     WaveformSynth(const sensor::PulseShape& shape, double sample_period_ns,
                   const std::string& source);
 
-    std::int64_t period_ps() const { return period_ps_; }
-    double period_ns() const { return 1e-3 * static_cast<double>(period_ps_); }
-    // Samples an arrival at `delay_ps` reaches: [first_sample, end_sample). The first is
-    // ceil((t_a + begin)/Δt) in integer ps, so the shape is never read before its start.
+    double period_ps() const { return period_ps_; }
+    double period_ns() const { return 1e-3 * period_ps_; }
+    // Samples an arrival at `delay_ps` reaches: [first_sample, end_sample), the first
+    // ceil((t_a + begin)/Δt) with begin rounded up to a whole ps, so the shape is (but for
+    // rounding, clamped in add()) never read before its start.
     std::int64_t first_sample(std::int64_t delay_ps) const {
-        const std::int64_t lo = delay_ps + begin_ps_;
-        return lo >= 0 ? (lo + period_ps_ - 1) / period_ps_ : -((-lo) / period_ps_);
+        return static_cast<std::int64_t>(std::ceil(double(delay_ps + begin_ps_) / period_ps_));
     }
     std::int64_t end_sample(std::int64_t delay_ps) const {
-        const std::int64_t hi = delay_ps + end_ps_;
-        return (hi >= 0 ? hi / period_ps_ : -((-hi + period_ps_ - 1) / period_ps_)) + 1;
+        return static_cast<std::int64_t>(std::floor(double(delay_ps + end_ps_) / period_ps_)) + 1;
     }
     // out[j − j0] += pe·s(t_j − t_a)·Δt for the samples of `out` (t in ns, s in 1/ns).
     void add(const Arrival& a, std::int64_t j0, std::span<double> out) const;
@@ -47,7 +48,8 @@ class WaveformSynth {
   private:
     void trim(const sensor::PulseShape& shape);
 
-    std::int64_t period_ps_ = 0, begin_ps_ = 0, end_ps_ = 0;
+    double period_ps_ = 0;
+    std::int64_t begin_ps_ = 0, end_ps_ = 0;
     double begin_ns_ = 0, end_ns_ = 0, step_ns_ = 0;
     std::size_t row_ = 0;        // entries per phase row
     std::vector<double> table_;  // (kSubSteps + 1) rows of s(begin + (p + kSubSteps·i)·step)·Δt
