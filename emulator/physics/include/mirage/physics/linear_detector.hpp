@@ -32,7 +32,6 @@ class LinearDetector {
     double excess_noise() const { return excess_; }
     // Primary dark electrons per ns.
     double dark_rate_per_ns() const { return dark_per_ns_; }
-    double full_scale() const { return full_scale_; }
     // Noise of a sample expecting n primary photo-electrons, in counts: g·√(F·n + σ_th²).
     double sigma_counts(double n_pe) const;
     // The threshold above the offset for a noise floor of `floor_pe` per sample.

@@ -31,7 +31,6 @@ class WaveformSynth {
     WaveformSynth(const sensor::PulseShape& shape, double sample_period_ns,
                   const std::string& source);
 
-    double period_ps() const { return period_ps_; }
     double period_ns() const { return 1e-3 * period_ps_; }
     // Samples an arrival at `delay_ps` reaches: [first_sample, end_sample), the first
     // ceil((t_a + begin)/Δt) with begin rounded up to a whole ps, so the shape is (but for
