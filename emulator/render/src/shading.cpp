@@ -126,9 +126,9 @@ PulseShader::PulseShader(const Setup& setup)
                                : sensor::PulseShape::tabulated(b.pulse_t_ns, b.pulse_power, source);
         sigma_p_ns_ = shape.sigma_ns();
         matched_ = !b.pulse_t_ns.empty();
-        linear_.emplace(sensor_.linear, "sensor '" + sensor_.name + "'");
+        linear_.emplace(sensor_.linear, source);
         synth_.emplace(shape, 1.0 / sensor_.linear.sample_rate_gsps,
-                       "sensor '" + sensor_.name + "': detector.sample_rate_gsps");
+                       source + ": detector.sample_rate_gsps");
     }
 }
 

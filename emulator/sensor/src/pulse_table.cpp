@@ -58,7 +58,7 @@ PulseTable parse_pulse_table(std::string_view text, const std::string& source) {
         t.t_ns.push_back(time);
         t.power.push_back(power);
     }
-    (void)PulseShape::tabulated(t.t_ns, t.power, source);  // the shape's own checks
+    t.fwhm_ns = PulseShape::tabulated(t.t_ns, t.power, source).fwhm_ns();  // and its checks
     return t;
 }
 

@@ -14,7 +14,6 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/airborne.hpp"
-#include "mirage/sensor/pulse_shape.hpp"
 #include "mirage/sensor/pulse_table.hpp"
 #include "mirage/sensor/sensor.hpp"
 #include "mirage/sensor/spinning.hpp"
@@ -145,8 +144,7 @@ void read_pulse_shape(const Reader& r, const YAML::Node& n, BeamParams& b) {
     } catch (const ConfigError& e) {
         r.fail("beam.pulse_shape", e.what());
     }
-    const PulseShape shape = PulseShape::tabulated(t.t_ns, t.power, file.string());
-    b.pulse_width_s = 1e-9 * shape.fwhm_ns();
+    b.pulse_width_s = 1e-9 * t.fwhm_ns;
     b.pulse_t_ns = std::move(t.t_ns);
     b.pulse_power = std::move(t.power);
     b.pulse_shape_file = file.string();

@@ -11,6 +11,7 @@ namespace mirage::sensor {
 
 struct PulseTable {
     std::vector<double> t_ns, power;
+    double fwhm_ns = 0;  // of the shape the table makes (PulseShape::tabulated)
 };
 
 inline constexpr std::size_t kMaxPulseTableBytes = 1 << 20;
