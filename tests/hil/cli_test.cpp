@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "cli_run.hpp"
@@ -26,6 +27,43 @@ TEST(Cli, render_writes_a_valid_las_with_a_summary) {
     const auto info = run_mirage("las-info " + out);
     EXPECT_EQ(info.exit_code, 0) << info.output;
     EXPECT_NE(info.output.find("valid"), std::string::npos);
+}
+
+// `render --waveform` (docs/commands.md): format 6 becomes 9, the packets land in the EVLR, or
+// in the .wdp with --wdp, and las-info validates them and draws chosen pulses.
+TEST(Cli, render_waveform_writes_packets_that_las_info_validates_and_draws) {
+    TempDir tmp;
+    const std::string sensor = (source_dir() / "recordings/sensors/als-waveform.yaml").string();
+    const std::string base =
+        "render --scene demo --trajectory demo-flight --duration 0.02 "
+        "--waveform --waveform-samples 128 --sensor " +
+        sensor;
+    auto r = run_mirage(base + " --out " + tmp.file("in.las"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = run_mirage(base + " --wdp --out " + tmp.file("ex.las"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(tmp.file("in.wdp")));
+    ASSERT_TRUE(std::filesystem::exists(tmp.file("ex.wdp")));
+    const auto in = las::LasFile::read(tmp.file("in.las"));
+    const auto ex = las::LasFile::read(tmp.file("ex.las"));
+    EXPECT_TRUE(in.validate().empty()) << ::testing::PrintToString(in.validate());
+    EXPECT_TRUE(ex.validate().empty()) << ::testing::PrintToString(ex.validate());
+    EXPECT_EQ(in.header().point_format, 9);
+    ASSERT_EQ(in.points().size(), ex.points().size());
+    ASSERT_GT(in.points().size(), 5000u);
+    for (std::size_t k = 0; k < in.points().size(); k += 97) {
+        ASSERT_EQ(in.waveform(in.points()[k]).size(), 128u);
+        ASSERT_EQ(in.waveform(in.points()[k]), ex.waveform(ex.points()[k])) << k;
+    }
+    r = run_mirage("las-info " + tmp.file("ex.las") + " --waveform-png " + tmp.file("w.png"));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("waveforms in the .wdp file"), std::string::npos) << r.output;
+    EXPECT_GT(std::filesystem::file_size(tmp.file("w.png")), 1000u);
+    // A sensor without a digitiser cannot record; --wdp alone asks for nothing.
+    r = run_mirage("render --scene demo --sensor vlp16 --waveform --out " + tmp.file("x.las"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    r = run_mirage("render --scene demo --sensor vlp16 --wdp --out " + tmp.file("x.las"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
 TEST(Cli, render_follows_a_csv_trajectory_with_either_interpolation) {

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 namespace mirage::las::layout {
 
@@ -45,10 +46,40 @@ inline constexpr std::uint16_t kGlobalEncodingAdjustedGps = 1u << 0;
 inline constexpr std::uint16_t kGlobalEncodingWkt = 1u << 4;
 inline constexpr std::uint16_t kWktRecordId = 2112;
 inline constexpr std::uint16_t kExtraBytesRecordId = 4;
+inline constexpr std::uint16_t kWaveformDescriptorRecordId = 100;  // descriptor index 1 (+99)
+inline constexpr std::uint16_t kWaveformPacketsRecordId = 65535;
+inline constexpr std::uint16_t kGlobalEncodingWaveInternal = 1u << 1;
+inline constexpr std::uint16_t kGlobalEncodingWaveExternal = 1u << 2;
+inline constexpr std::size_t kWaveDescriptorSize = 26;
+inline constexpr std::size_t kExtraBytesDescriptorSize = 192;
+inline constexpr std::size_t kWavePacketFieldsSize = 29;  // index, offset, size, location, dx–dz
+
+// Where formats 4, 5, 9 and 10 keep their wave packet fields (Tables 11, 12, 16, 17); 0: none.
+inline constexpr std::size_t wave_fields_at(std::uint8_t format) {
+    switch (format) {
+        case 4:
+            return 28;
+        case 5:
+            return 34;
+        case 9:
+            return 30;
+        case 10:
+            return 38;
+        default:
+            return 0;
+    }
+}
 
 // Minimum record length of point formats 0–10 (Tables 7–17).
 inline constexpr std::array<std::uint16_t, 11> kRecordLengths = {20, 28, 26, 34, 57, 63,
                                                                  30, 36, 38, 59, 67};
+
+// A NUL-padded text field of n bytes.
+inline std::string fixed_text(const std::uint8_t* p, std::size_t n) {
+    std::size_t len = 0;
+    while (len < n && p[len] != 0) ++len;
+    return std::string(reinterpret_cast<const char*>(p), len);
+}
 
 inline void put_u8(std::uint8_t* p, std::uint8_t v) { p[0] = v; }
 // On a little-endian host the bytes are the value's own, copied in one store (the encoder writes
@@ -77,6 +108,11 @@ inline void put_u32(std::uint8_t* p, std::uint32_t v) { put_le(p, v); }
 inline void put_u64(std::uint8_t* p, std::uint64_t v) { put_le(p, v); }
 inline void put_i16(std::uint8_t* p, std::int16_t v) { put_u16(p, static_cast<std::uint16_t>(v)); }
 inline void put_i32(std::uint8_t* p, std::int32_t v) { put_u32(p, static_cast<std::uint32_t>(v)); }
+inline void put_f32(std::uint8_t* p, float v) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    put_u32(p, bits);
+}
 inline void put_f64(std::uint8_t* p, double v) {
     std::uint64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
@@ -88,6 +124,12 @@ inline std::uint32_t get_u32(const std::uint8_t* p) { return get_le<std::uint32_
 inline std::uint64_t get_u64(const std::uint8_t* p) { return get_le<std::uint64_t>(p); }
 inline std::int16_t get_i16(const std::uint8_t* p) { return static_cast<std::int16_t>(get_u16(p)); }
 inline std::int32_t get_i32(const std::uint8_t* p) { return static_cast<std::int32_t>(get_u32(p)); }
+inline float get_f32(const std::uint8_t* p) {
+    std::uint32_t bits = get_u32(p);
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+}
 inline double get_f64(const std::uint8_t* p) {
     std::uint64_t bits = get_u64(p);
     double v;

@@ -13,6 +13,7 @@
 
 #include "las_layout.hpp"
 #include "mirage/core/error.hpp"
+#include "wdp_file.hpp"
 
 namespace mirage::las {
 namespace {
@@ -21,12 +22,6 @@ using namespace layout;
 
 constexpr double kScanAngleUnit_deg = 0.006;
 constexpr const char* kAxis[3] = {"x", "y", "z"};
-
-std::string fixed_text(const std::uint8_t* p, std::size_t n) {
-    std::size_t len = 0;
-    while (len < n && p[len] != 0) ++len;
-    return std::string(reinterpret_cast<const char*>(p), len);
-}
 
 std::string printable(const char* s, std::size_t n) {
     std::string out;
@@ -38,7 +33,18 @@ std::string printable(const char* s, std::size_t n) {
     return out;
 }
 
-bool format_supported(std::uint8_t f) { return f <= 3 || (f >= 6 && f <= 8); }
+bool format_supported(std::uint8_t f) { return f <= 10; }
+
+// Formats 4, 5, 9, 10: the wave packet fields (Tables 11, 12, 16, 17).
+void decode_wave(const std::uint8_t* w, LasPoint& p) {
+    p.wave_index = w[0];
+    p.wave_offset = get_u64(w + 1);
+    p.wave_size = get_u32(w + 9);
+    p.wave_location_ps = get_f32(w + 13);
+    p.wave_dx = get_f32(w + 17);
+    p.wave_dy = get_f32(w + 21);
+    p.wave_dz = get_f32(w + 25);
+}
 
 LasPoint decode(const std::uint8_t* r, std::uint8_t f, const LasHeaderInfo& h) {
     LasPoint p{};
@@ -58,9 +64,9 @@ LasPoint decode(const std::uint8_t* r, std::uint8_t f, const LasHeaderInfo& h) {
         p.classification = r[15] & 0x1F;
         p.scan_angle_deg = static_cast<std::int8_t>(r[16]);
         p.point_source_id = get_u16(r + 18);
-        p.gps_time = (f == 1 || f == 3) ? get_f64(r + 20) : 0.0;
+        p.gps_time = (f == 0 || f == 2) ? 0.0 : get_f64(r + 20);
         const std::size_t rgb = f == 2 ? 20 : 28;
-        if (f == 2 || f == 3) {
+        if (f == 2 || f == 3 || f == 5) {
             p.red = get_u16(r + rgb);
             p.green = get_u16(r + rgb + 2);
             p.blue = get_u16(r + rgb + 4);
@@ -75,29 +81,59 @@ LasPoint decode(const std::uint8_t* r, std::uint8_t f, const LasHeaderInfo& h) {
         p.scan_angle_deg = static_cast<float>(get_i16(r + 18) * kScanAngleUnit_deg);
         p.point_source_id = get_u16(r + 20);
         p.gps_time = get_f64(r + 22);
-        if (f >= 7) {
+        if (f == 7 || f == 8 || f == 10) {
             p.red = get_u16(r + 30);
             p.green = get_u16(r + 32);
             p.blue = get_u16(r + 34);
         }
     }
+    if (const std::size_t w = wave_fields_at(f)) decode_wave(r + w, p);
     return p;
 }
 
 }  // namespace
 
-LasFile LasFile::read(const std::string& path) {
+namespace {
+
+std::vector<std::uint8_t> slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError("las reader '" + path + "': cannot open: " + std::strerror(errno));
     std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                     std::istreambuf_iterator<char>());
     if (in.bad()) throw IoError("las reader '" + path + "': read error");
-    return from_bytes(bytes);
+    return bytes;
+}
+
+}  // namespace
+
+LasFile LasFile::read(const std::string& path) {
+    const std::vector<std::uint8_t> bytes = slurp(path);
+    const bool external = bytes.size() > kGlobalEncoding + 1 &&
+                          (get_u16(bytes.data() + kGlobalEncoding) & kGlobalEncodingWaveExternal);
+    if (!external) return from_bytes(bytes, nullptr);
+    const std::string wdp_path = WdpFile::path_for(path);
+    std::vector<std::uint8_t> wdp;
+    try {
+        wdp = slurp(wdp_path);
+    } catch (const IoError&) {
+        LasFile f = from_bytes(bytes, nullptr);
+        f.problems_.push_back("waveform packets are external but '" + wdp_path +
+                              "' cannot be read");
+        return f;
+    }
+    return from_bytes(bytes, &wdp);
 }
 
 LasFile LasFile::from_bytes(const std::vector<std::uint8_t>& bytes) {
+    return from_bytes(bytes, nullptr);
+}
+
+LasFile LasFile::from_bytes(const std::vector<std::uint8_t>& bytes,
+                            const std::vector<std::uint8_t>* wdp) {
     LasFile f;
     f.parse(bytes);
+    f.load_waves(bytes, wdp);
+    f.check_waves();
     return f;
 }
 
@@ -161,6 +197,8 @@ void LasFile::parse(const std::vector<std::uint8_t>& bytes) {
     // The 1.4 fields exist only when the header really is a 1.4 one and is in the file.
     const bool v14 =
         h.version_major == 1 && minor >= 4 && h.header_size >= kHeaderSize14 && n >= kHeaderSize14;
+    if (h.version_major == 1 && minor >= 3 && h.header_size >= kHeaderSize13 && n >= kHeaderSize13)
+        h.start_of_waveform = get_u64(d + kWaveformStart);
     if (v14) {
         h.start_of_first_evlr = get_u64(d + kFirstEvlr);
         h.evlr_count = get_u32(d + kEvlrCount);
@@ -212,6 +250,7 @@ void LasFile::parse(const std::vector<std::uint8_t>& bytes) {
             h.wkt = fixed_text(v + kVlrHeaderSize, len);
         }
         if (user == "LASF_Spec" && id == kExtraBytesRecordId) extra_bytes_vlr = true;
+        read_vlr(v, user, id, len);
         pos += kVlrHeaderSize + len;
     }
 

@@ -13,13 +13,16 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "las_layout.hpp"
+#include "las_vlrs.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/core/rounding.hpp"
 #include "mirage/core/time.hpp"
 #include "signal_registry.hpp"
+#include "wdp_file.hpp"
 
 namespace mirage::las {
 namespace {
@@ -84,6 +87,11 @@ struct LasWriter::Impl {
     std::atomic<int> fd{-1};  // read by the signal handler, possibly on another thread
     bool registered = false;
     std::uint16_t record_length = 0;
+    std::uint16_t base_length = 0;  // the format's own fields; echo fields follow
+    std::size_t wave_at = 0;        // offset of the wave packet fields, 0: none
+    std::uint32_t packet_bytes = 0;
+    std::unique_ptr<WdpFile> wdp;  // formats 4, 5, 9, 10
+    std::uint64_t evlr_bytes = 0;  // after the points, once close() has copied the packets
     std::uint8_t return_mask = 0;
     std::uint32_t data_offset = 0;
     std::array<double, 3> offset{};
@@ -102,8 +110,15 @@ struct LasWriter::Impl {
 
     void open(const std::string& p, const core::Georef& georef, LasWriterOptions o);
     bool quantise(double local, int axis, std::int32_t& out) const noexcept;
+    void check_format() const;
+    std::vector<std::uint8_t> vlrs(const core::Georef& georef) const;
     bool encode(const core::PointRecord& p, std::uint8_t* r,
                 std::uint64_t& remapped_count) const noexcept;
+    void put_wave(const core::PointRecord& p, std::uint8_t* r, bool packet,
+                  std::uint64_t offset) const noexcept;
+    void put_packet(std::span<const std::uint32_t> samples, std::vector<std::uint8_t>& out) const;
+    void append_waves(const EncodedRecords& records, std::vector<std::uint8_t>& rebased);
+    void embed_waves();
     void accumulate(const std::uint8_t* records, std::size_t n) noexcept;
     void tally(const std::uint8_t* record, RecordStats& s) const noexcept;
     void append(const std::uint8_t* records, std::size_t bytes, const RecordStats* stats);
@@ -117,15 +132,13 @@ struct LasWriter::Impl {
 void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, LasWriterOptions o) {
     path = p;
     opt = std::move(o);
+    check_format();
     const std::uint8_t f = opt.point_format;
-    if (f != 1 && f != 3 && f != 6 && f != 7) {
-        throw ConfigError(prefix() + "point format " + std::to_string(f) +
-                          " not supported (1, 3, 6 or 7)");
-    }
-    if (!(opt.scale > 0.0) || !std::isfinite(opt.scale)) {
-        throw ConfigError(prefix() + "scale must be a positive number");
-    }
-    record_length = kRecordLengths[f];
+    base_length = kRecordLengths[f];
+    record_length =
+        static_cast<std::uint16_t>(base_length + (opt.echo_fields ? kEchoExtraBytes : 0));
+    wave_at = wave_fields_at(f);
+    packet_bytes = opt.waveform.samples * (opt.waveform.bits / 8u);
     return_mask = f < 6 ? 0x07 : 0x0F;
     for (int a = 0; a < 3; ++a) {
         const double anchor = georef.anchor()[a];
@@ -133,26 +146,12 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
         offset[a] = std::floor(anchor / kOffsetGrid_m) * kOffsetGrid_m;
         shift[a] = anchor - offset[a];
     }
-
-    std::vector<std::uint8_t> vlr;
-    if (georef.has_crs()) {
-        const std::string wkt = georef.wkt();
-        if (wkt.empty())
-            throw ConfigError(prefix() + "no WKT for EPSG " + std::to_string(georef.epsg()));
-        if (wkt.size() + 1 > std::numeric_limits<std::uint16_t>::max()) {
-            throw ConfigError(prefix() + "WKT longer than a VLR can hold");
-        }
-        vlr.assign(kVlrHeaderSize + wkt.size() + 1, 0);
-        put_text(vlr.data() + 2, 16, "LASF_Projection");
-        put_u16(vlr.data() + 18, kWktRecordId);
-        put_u16(vlr.data() + 20, static_cast<std::uint16_t>(wkt.size() + 1));
-        put_text(vlr.data() + 22, 32, "OGC WKT coordinate system");
-        std::memcpy(vlr.data() + kVlrHeaderSize, wkt.data(), wkt.size());
-    }
+    const std::vector<std::uint8_t> vlr = vlrs(georef);
     data_offset = static_cast<std::uint32_t>(kHeaderSize14 + vlr.size());
 
     std::uint16_t encoding = kGlobalEncodingAdjustedGps;
     if (georef.has_crs() || f >= 6) encoding |= kGlobalEncodingWkt;
+    if (wave_at) encoding |= kGlobalEncodingWaveExternal;  // until close() embeds the packets
     std::uint8_t* h = header_template.data();
     std::memcpy(h + kSignature, "LASF", 4);
     put_u16(h + kFileSourceId, opt.file_source_id);
@@ -165,7 +164,9 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
     put_u16(h + kCreationYear, opt.creation_year);
     put_u16(h + kHeaderSize, static_cast<std::uint16_t>(kHeaderSize14));
     put_u32(h + kOffsetToPoints, data_offset);
-    put_u32(h + kVlrCount, vlr.empty() ? 0u : 1u);
+    put_u32(h + kVlrCount, static_cast<std::uint32_t>(georef.has_crs()) +
+                               static_cast<std::uint32_t>(wave_at != 0) +
+                               static_cast<std::uint32_t>(opt.echo_fields));
     put_u8(h + kPointFormat, f);
     put_u16(h + kRecordLength, record_length);
     for (int a = 0; a < 3; ++a) {
@@ -184,12 +185,62 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
     head.insert(head.end(), vlr.begin(), vlr.end());
     int err = 0;
     pwrite_all(fd, head.data(), head.size(), 0, err);
+    if (err == 0 && wave_at) {
+        try {
+            wdp = std::make_unique<WdpFile>(path);
+        } catch (const IoError&) {
+            ::close(fd);
+            fd = -1;
+            ::unlink(path.c_str());
+            throw;
+        }
+    }
     if (err != 0) {
         ::close(fd);
         fd = -1;
         ::unlink(path.c_str());
         throw IoError(prefix() + "cannot write header: " + std::strerror(err));
     }
+}
+
+void LasWriter::Impl::check_format() const {
+    const std::uint8_t f = opt.point_format;
+    if (f == 0 || f == 2 || f == 8 || f > 10) {
+        throw ConfigError(prefix() + "point format " + std::to_string(f) +
+                          " not supported (1, 3, 6, 7; with waveforms 4, 5, 9, 10)");
+    }
+    if (!(opt.scale > 0.0) || !std::isfinite(opt.scale)) {
+        throw ConfigError(prefix() + "scale must be a positive number");
+    }
+    if (wave_fields_at(f) == 0) return;
+    const WaveformPackets& w = opt.waveform;
+    if (w.bits != 8 && w.bits != 16 && w.bits != 32)
+        throw ConfigError(prefix() + "waveform bits per sample must be 8, 16 or 32");
+    if (w.samples == 0 || w.samples > (1u << 24))
+        throw ConfigError(prefix() + "waveform samples per packet must be 1 to 2^24");
+    if (w.spacing_ps == 0) throw ConfigError(prefix() + "waveform sample spacing must be > 0 ps");
+    if (!std::isfinite(w.gain) || !std::isfinite(w.offset))
+        throw ConfigError(prefix() + "waveform gain and offset must be finite");
+}
+
+// The VLRs after the header: CRS, waveform packet descriptor, extra bytes (each if used).
+std::vector<std::uint8_t> LasWriter::Impl::vlrs(const core::Georef& georef) const {
+    std::vector<std::uint8_t> v;
+    if (georef.has_crs()) {
+        const std::string wkt = georef.wkt();
+        if (wkt.empty())
+            throw ConfigError(prefix() + "no WKT for EPSG " + std::to_string(georef.epsg()));
+        v = wkt_vlr(wkt, prefix());
+    }
+    if (wave_at) {
+        const auto d = waveform_descriptor_vlr(opt.waveform);
+        v.insert(v.end(), d.begin(), d.end());
+    }
+    if (opt.echo_fields) {
+        const auto e = echo_extra_bytes_vlr();
+        v.insert(v.end(), e.begin(), e.end());
+    }
+    return v;
 }
 
 // Round to nearest (docs/physics.md §3.3: truncation biases by up to a whole step) and refuse
@@ -229,7 +280,7 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r,
         r[17] = 0;
         put_u16(r + 18, p.point_source_id);
         put_f64(r + 20, gps);
-        if (opt.point_format == 3) put_rgb(r + 28, p);
+        if (opt.point_format == 3 || opt.point_format == 5) put_rgb(r + 28, p);
     } else {
         // Table 13: return number 4 bits, number of returns 4 bits; then classification
         // flags (4), scanner channel (2, scanner head: always 0 here), scan direction, edge.
@@ -244,9 +295,60 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r,
         put_i16(r + 18, static_cast<std::int16_t>(core::round_half_away(units)));
         put_u16(r + 20, p.point_source_id);
         put_f64(r + 22, gps);
-        if (opt.point_format == 7) put_rgb(r + 30, p);
+        if (opt.point_format == 7 || opt.point_format == 10) put_rgb(r + 30, p);
+        if (opt.point_format == 10) put_u16(r + 36, 0);  // NIR: not simulated
+    }
+    if (opt.echo_fields) {
+        put_f32(r + base_length, p.amplitude);
+        put_f32(r + base_length + 4, p.echo_width_ns);
+        put_f32(r + base_length + 8, p.deviation);
     }
     return true;
+}
+
+// The wave packet fields (formats 4, 5, 9, 10). The parametric line points back along the beam,
+// c/2 per ps, so the packet's first sample lies at the point + location · (dx, dy, dz) and
+// sample i at that − i·spacing·(dx, dy, dz) (docs/file-formats.md §6.1).
+void LasWriter::Impl::put_wave(const core::PointRecord& p, std::uint8_t* r, bool packet,
+                               std::uint64_t at) const noexcept {
+    std::uint8_t* w = r + wave_at;
+    if (!packet) {
+        std::memset(w, 0, kWavePacketFieldsSize);
+        return;
+    }
+    constexpr double kMetersPerPs = 0.5 * 299'792'458.0 * 1e-12;
+    put_u8(w, 1);
+    put_u64(w + 1, at);
+    put_u32(w + 9, packet_bytes);
+    put_f32(w + 13, p.wave_location_ps);
+    put_f32(w + 17, static_cast<float>(-p.beam_dx * kMetersPerPs));
+    put_f32(w + 21, static_cast<float>(-p.beam_dy * kMetersPerPs));
+    put_f32(w + 25, static_cast<float>(-p.beam_dz * kMetersPerPs));
+}
+
+// One packet: the samples at the descriptor's width, little-endian, saturating.
+void LasWriter::Impl::put_packet(std::span<const std::uint32_t> samples,
+                                 std::vector<std::uint8_t>& out) const {
+    const std::size_t at = out.size();
+    out.resize(at + packet_bytes);
+    std::uint8_t* o = out.data() + at;
+    switch (opt.waveform.bits) {
+        case 8:
+            for (const std::uint32_t v : samples)
+                *o++ = static_cast<std::uint8_t>(std::min(v, 255u));
+            break;
+        case 16:
+            for (const std::uint32_t v : samples) {
+                put_u16(o, static_cast<std::uint16_t>(std::min(v, 65535u)));
+                o += 2;
+            }
+            break;
+        default:
+            for (const std::uint32_t v : samples) {
+                put_u32(o, v);
+                o += 4;
+            }
+    }
 }
 
 // Statistics from the encoded bytes, so a partial write accounts exactly for what hit disk.
@@ -289,7 +391,7 @@ void LasWriter::Impl::publish() noexcept {
     const int next = 1 - published.load(std::memory_order_relaxed);
     build_header(flushed, snapshots[next].header.data());
     snapshots[next].size =
-        static_cast<off_t>(data_offset + flushed.count * std::uint64_t{record_length});
+        static_cast<off_t>(data_offset + flushed.count * std::uint64_t{record_length} + evlr_bytes);
     published.store(next, std::memory_order_release);
 }
 
@@ -370,6 +472,10 @@ LasWriter::~LasWriter() {
 void LasWriter::write(std::span<const core::PointRecord> points) {
     Impl& im = *impl_;
     if (im.fd < 0) throw IoError(im.prefix() + "write after close or after a write error");
+    if (im.wave_at) {  // records refer to packets: written with them, through write_encoded
+        write_recorded(points, {});
+        return;
+    }
     const std::size_t len = im.record_length;
     for (const core::PointRecord& p : points) {
         if (im.used + len > im.buffer.size()) im.flush();
@@ -382,16 +488,48 @@ void LasWriter::write(std::span<const core::PointRecord> points) {
     }
 }
 
+void LasWriter::write_recorded(std::span<const core::PointRecord> points,
+                               std::span<const std::uint32_t> samples) {
+    Impl& im = *impl_;
+    if (!im.wave_at) {
+        write(points);
+        return;
+    }
+    EncodedRecords chunk;
+    encode_recorded(points, samples, chunk);
+    write_encoded(chunk);
+}
+
 void LasWriter::encode(std::span<const core::PointRecord> points, EncodedRecords& out) const {
+    encode_recorded(points, {}, out);
+}
+
+// A pulse's returns follow each other and share one window of samples: its packet is stored
+// once, for the first of them.
+void LasWriter::encode_recorded(std::span<const core::PointRecord> points,
+                                std::span<const std::uint32_t> samples, EncodedRecords& out) const {
     const Impl& im = *impl_;
     const std::size_t len = im.record_length;
+    const std::size_t n = im.opt.waveform.samples;
     const std::size_t at = out.bytes.size();
     out.bytes.resize(at + points.size() * len);
     std::uint8_t* r = out.bytes.data() + at;
+    std::uint32_t last_wave = core::PointRecord::kNoWave;
+    std::uint64_t last_at = 0;
     for (const core::PointRecord& p : points) {
         if (!im.encode(p, r, out.remapped)) {
             ++out.rejected;
             continue;
+        }
+        if (im.wave_at) {
+            const bool packet =
+                p.wave != core::PointRecord::kNoWave && std::size_t{p.wave} + n <= samples.size();
+            if (packet && p.wave != last_wave) {
+                last_wave = p.wave;
+                last_at = out.waves.size();
+                im.put_packet(samples.subspan(p.wave, n), out.waves);
+            }
+            im.put_wave(p, r, packet, last_at);
         }
         im.tally(r, out.stats);
         r += len;
@@ -408,13 +546,62 @@ void LasWriter::write_encoded(const EncodedRecords& records) {
     im.remapped += records.remapped;
     if (records.stats.count == 0) return;
     im.flush();  // what write() buffered comes first
-    im.append(records.bytes.data(), records.bytes.size(), &records.stats);
+    if (!im.wave_at) {
+        im.append(records.bytes.data(), records.bytes.size(), &records.stats);
+        return;
+    }
+    std::vector<std::uint8_t> rebased;
+    im.append_waves(records, rebased);
+    im.append(rebased.data(), rebased.size(), &records.stats);
+}
+
+// The chunk's packets to the .wdp (before the records that refer to them, so every record on
+// disk has its packet), and the records with their offsets made the file's.
+void LasWriter::Impl::append_waves(const EncodedRecords& records,
+                                   std::vector<std::uint8_t>& rebased) {
+    const std::uint64_t base = wdp->end();
+    if (const int err = wdp->append(records.waves.data(), records.waves.size()); err != 0)
+        fail(err);
+    rebased = records.bytes;
+    for (std::size_t k = 0; k < rebased.size(); k += record_length) {
+        std::uint8_t* w = rebased.data() + k + wave_at;
+        if (w[0] != 0) put_u64(w + 1, get_u64(w + 1) + base);
+    }
+}
+
+// close() of an internal-waveform file: the .wdp becomes the file's one EVLR, the header says
+// so, and the .wdp goes. On a write error the file is cut back to its points and keeps its
+// packets external (still valid), and IoError says where they are.
+void LasWriter::Impl::embed_waves() {
+    const std::uint64_t start = data_offset + flushed.count * std::uint64_t{record_length};
+    if (const int err = wdp->copy_to(fd, static_cast<off_t>(start)); err != 0) {
+        const int cut = ::ftruncate(fd, static_cast<off_t>(start));
+        (void)cut;
+        throw IoError(prefix() + "cannot copy the waveform packets into the file (" +
+                      std::strerror(err) + "); they stay in '" + wdp->path() +
+                      "' and the file refers to it");
+    }
+    std::uint8_t* h = header_template.data();
+    put_u16(h + kGlobalEncoding, static_cast<std::uint16_t>(
+                                     (get_u16(h + kGlobalEncoding) & ~kGlobalEncodingWaveExternal) |
+                                     kGlobalEncodingWaveInternal));
+    put_u64(h + kWaveformStart, start);
+    put_u64(h + kFirstEvlr, start);
+    put_u32(h + kEvlrCount, 1);
+    evlr_bytes = wdp->end();
+    publish();
+    const auto& snap = snapshots[published.load(std::memory_order_relaxed)];
+    int err = 0;
+    pwrite_all(fd, snap.header.data(), snap.header.size(), 0, err);
+    if (err != 0) throw IoError(prefix() + "cannot write header: " + std::strerror(err));
+    wdp->remove();
 }
 
 void LasWriter::close() {
     Impl& im = *impl_;
     if (im.fd < 0) return;
     im.flush();  // rewrites the header for everything on disk
+    if (im.wdp && !im.opt.waveform.external) im.embed_waves();
     // Unregister before closing the descriptor so the handler never touches a closed fd.
     if (im.registered) {
         detail::unregister_writer(this);

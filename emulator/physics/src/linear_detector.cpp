@@ -64,7 +64,8 @@ void LinearDetector::digitise(const double* n_pe, const double* z, std::size_t n
 }
 
 // Three-point Gaussian fit: ln y is a parabola through samples j − 1, j, j + 1. Where a
-// neighbour is missing or not above the offset, the sample itself with the pulse's own width.
+// neighbour is missing or not above the offset (or ln y is not concave), the sample itself,
+// width 0 (not measured).
 Echo LinearDetector::fit(const double* counts, std::size_t n, std::size_t j, std::int64_t j0,
                          double off) const {
     const double y0 = counts[j] - off;

@@ -30,6 +30,7 @@ std::unique_ptr<ChunkResult> ChunkQueue::result() {
     }
     if (!r) r = std::make_unique<ChunkResult>();
     r->shaded.points.clear();
+    r->shaded.samples.clear();
     r->shaded.stats = {};
     if (r->encoded) r->encoded->clear();
     return r;

@@ -47,8 +47,9 @@ void render_chunk(const Run& run, std::uint64_t c, WorkerBuffers& w, ChunkResult
         run.shader.shade(g, w.hits, run.builder.subrays(), w.scratch, result.shaded);
         clock.lap(StageClock::kShade);
         if (run.encodes) {
-            run.sink.encode(result.shaded.points, *result.encoded);
+            run.sink.encode_recorded(result.shaded.points, result.shaded.samples, *result.encoded);
             result.shaded.points.clear();
+            result.shaded.samples.clear();
             clock.lap(StageClock::kOutput);
         }
     });
@@ -80,7 +81,7 @@ void write_chunk(const Run& run, ChunkResult& ready, std::uint64_t next_pulse, R
     if (run.encodes)
         run.sink.write_encoded(*ready.encoded);
     else
-        run.sink.write(ready.shaded.points);
+        run.sink.write_recorded(ready.shaded.points, ready.shaded.samples);
     run.sink.pulses_done(next_pulse);
     stats.cpu_output_s += thread_cpu_s() - c0;
 }

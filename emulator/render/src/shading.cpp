@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "basis.hpp"
+#include "mirage/core/error.hpp"
 #include "mirage/core/exp_poly.hpp"
 #include "mirage/core/rng.hpp"
 
@@ -130,6 +131,21 @@ PulseShader::PulseShader(const Setup& setup)
         synth_.emplace(shape, 1.0 / sensor_.linear.sample_rate_gsps,
                        source + ": detector.sample_rate_gsps");
     }
+    check_recording();
+}
+
+// Waveforms are recorded from the linear detector's digitiser, at most kMaxWaveformSamples per
+// pulse (a chunk's samples are indexed by 32 bits).
+void PulseShader::check_recording() const {
+    const std::uint32_t n = opt_.waveform_samples;
+    if (n == 0) return;
+    const std::string source = "sensor '" + sensor_.name + "'";
+    if (!linear_)
+        throw mirage::ConfigError(source + ": recording waveforms needs detector.kind: linear");
+    if (n > kMaxWaveformSamples)
+        throw mirage::ConfigError(source + ": " + std::to_string(n) +
+                                  " waveform samples per pulse (at most " +
+                                  std::to_string(kMaxWaveformSamples) + ")");
 }
 
 std::vector<double> PulseShader::weighted_k(const std::vector<sensor::SubRay>& subrays) const {
@@ -147,7 +163,7 @@ void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
     ray_terms(g, hits, scratch);
     const double* terms = scratch.ray_terms.data();
     if (linear_)
-        waveform_returns(g, hits, terms, k, scratch, out.stats);
+        waveform_returns(g, hits, terms, k, scratch, out);
     else if (subrays.size() == 1)
         single_returns(g, hits, terms, k[0], scratch, out.stats);
     else
@@ -324,6 +340,7 @@ std::size_t PulseShader::write_records(const RayBatch& g, const std::vector<Hit>
                                        const ShadeScratch& scratch, core::PointRecord* pts) const {
     const PendingReturn* pending = scratch.pending.data();
     const double* voids = scratch.voids.data();
+    const EchoFields* echo = scratch.echo_fields.empty() ? nullptr : scratch.echo_fields.data();
     std::size_t kept = 0;
     for (std::size_t j = 0; j < scratch.pending.size(); ++j) {
         const PendingReturn& r = pending[j];
@@ -348,6 +365,16 @@ std::size_t PulseShader::write_records(const RayBatch& g, const std::vector<Hit>
         pt.classification = m.classification;
         pt.scan_direction = spec.scan_direction;
         pt.edge_of_flight_line = spec.edge_of_flight_line;
+        if (echo) {
+            pt.amplitude = echo[j].amplitude;
+            pt.echo_width_ns = echo[j].width_ns;
+            pt.deviation = echo[j].deviation;
+            pt.wave = echo[j].wave;
+            pt.wave_location_ps = echo[j].wave_location_ps;
+            pt.beam_dx = static_cast<float>(scratch.dir[0][j]);
+            pt.beam_dy = static_cast<float>(scratch.dir[1][j]);
+            pt.beam_dz = static_cast<float>(scratch.dir[2][j]);
+        }
         kept += voids[j] == 0.0;
     }
     return kept;

@@ -38,6 +38,15 @@ struct PendingReturn {
     std::uint32_t k;    // index among its pulse's reported returns, nearest first
 };
 
+// What the waveform detector adds to a point (see core::PointRecord).
+struct EchoFields {
+    float amplitude = 0, width_ns = 0, deviation = 0, wave_location_ps = 0;
+    std::uint32_t wave = core::PointRecord::kNoWave;
+};
+
+// Samples a render may record per pulse (RenderOptions::waveform_samples).
+inline constexpr std::uint32_t kMaxWaveformSamples = 65536;
+
 // Echoes a waveform detector reports per pulse, at most (LAS return numbers go to 15; the
 // receiver keeps up to sensor::kMaxReturns of them).
 inline constexpr std::size_t kMaxEchoes = 8;
@@ -68,11 +77,19 @@ struct ShadeScratch {
     std::vector<physics::Arrival> arrivals;
     std::vector<double> wave, wave_z, counts, pulse_template;
     std::vector<physics::Echo> echoes;
+    std::uint32_t next_block = 0;  // the pulse's next Philox block of stream 1
+    // Per pending return (linear detector only): amplitude, width, deviation, recorded waveform.
+    std::vector<EchoFields> echo_fields;
+    // A render recording waveforms (waveform_record.cpp): the pulse's window, NaN where no
+    // arrival group's samples were digitised.
+    std::vector<double> record;
 };
 
-// What shading appends to: point records in pulse order, and the counts.
+// What shading appends to: point records in pulse order, the digitised samples they refer to
+// (PointRecord::wave; a render recording waveforms only), and the counts.
 struct ShadedPoints {
     std::vector<core::PointRecord> points;
+    std::vector<std::uint32_t> samples;
     RenderStats stats;
 };
 
@@ -140,16 +157,25 @@ class PulseShader {
     // waveform_returns.cpp: the linear-mode detector's returns.
     void waveform_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                           const std::vector<double>& weighted_k, ShadeScratch& scratch,
-                          RenderStats& stats) const;
+                          ShadedPoints& out) const;
     void merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const;
     double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
     void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
                       ShadeScratch& scratch) const;
     void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
-                    ShadeScratch& scratch) const;
+                    std::uint32_t wave, std::int64_t wave_first, ShadeScratch& scratch) const;
     double matched_time_ns(const physics::Echo& e, std::int64_t j0, double baseline,
                            ShadeScratch& scratch) const;
+    EchoFields echo_fields(const physics::Echo& e, std::uint32_t wave,
+                           std::int64_t wave_first) const;
+    double fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
+                         const ShadeScratch& scratch) const;
+    void check_recording() const;
+    // waveform_record.cpp: the digitised window a render records per pulse with returns.
+    void record_group(std::int64_t j0, std::int64_t wave_first, ShadeScratch& scratch) const;
+    std::uint32_t record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
+                               std::vector<std::uint32_t>& samples) const;
 
     // shading.cpp: pending returns -> points.
     void electrons(ShadeScratch& scratch) const;

@@ -74,27 +74,32 @@ void PulseShader::merge_close_arrivals(std::vector<physics::Arrival>& arrivals) 
 
 void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hits,
                                    const double* terms, const std::vector<double>& weighted_k,
-                                   ShadeScratch& scratch, RenderStats& stats) const {
+                                   ShadeScratch& scratch, ShadedPoints& out) const {
     auto& arrivals = scratch.arrivals;
+    scratch.echo_fields.clear();
     for (std::uint32_t i = 0; i < g.specs.size(); ++i) {
         const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals);
-        stats.pulses++;
+        out.stats.pulses++;
         if (arrivals.empty()) {
             if (close)
-                stats.too_close++;
+                out.stats.too_close++;
             else
-                stats.misses++;
+                out.stats.misses++;
             continue;
         }
         std::sort(arrivals.begin(), arrivals.end(),
                   [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
         merge_close_arrivals(arrivals);
-        detect_waveform(g.first + i, floor_pe_per_sample(hits, scratch), scratch);
+        const double floor_pe = floor_pe_per_sample(hits, scratch);
+        detect_waveform(g.first + i, floor_pe, scratch);
         if (scratch.echoes.empty()) {
-            stats.voids++;  // light arrived, nothing crossed the threshold
+            out.stats.voids++;  // light arrived, nothing crossed the threshold
             continue;
         }
-        add_echoes(i, arrivals, scratch);
+        std::uint32_t wave = core::PointRecord::kNoWave;
+        if (opt_.waveform_samples > 0)
+            wave = record_pulse(g.first + i, floor_pe, scratch, out.samples);
+        add_echoes(i, arrivals, wave, synth_->first_sample(arrivals[0].delay_ps), scratch);
     }
 }
 
@@ -123,6 +128,8 @@ void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
     const auto& arrivals = scratch.arrivals;
     const bool noisy = opt_.noise;
     std::uint32_t block = 0;  // the pulse's next Philox block of stream 1
+    const std::int64_t wave_first = synth_->first_sample(arrivals[0].delay_ps);
+    if (opt_.waveform_samples > 0) scratch.record.assign(opt_.waveform_samples, NAN);
     scratch.echoes.resize(kMaxEchoes);
     std::size_t found = 0;
     for (std::size_t a = 0; a < arrivals.size() && found < kMaxEchoes;) {
@@ -138,20 +145,39 @@ void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
         if (noisy) draw_normals(pulse, n, block, scratch);
         linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
                           scratch.counts.data());
+        if (opt_.waveform_samples > 0) record_group(j0, wave_first, scratch);
         const std::size_t got =
             linear_->find_echoes(scratch.counts.data(), n, j0, noisy ? floor_pe : 0.0, noisy,
                                  scratch.echoes.data() + found, kMaxEchoes - found);
-        if (matched_) {
-            const double baseline = linear_->params().offset_counts +
-                                    (noisy ? linear_->params().gain_counts_per_pe * floor_pe : 0.0);
-            for (std::size_t e = found; e < found + got; ++e)
-                scratch.echoes[e].time_ns =
-                    matched_time_ns(scratch.echoes[e], j0, baseline, scratch);
+        const double baseline = linear_->params().offset_counts +
+                                (noisy ? linear_->params().gain_counts_per_pe * floor_pe : 0.0);
+        for (std::size_t e = found; e < found + got; ++e) {
+            physics::Echo& echo = scratch.echoes[e];
+            echo.deviation = fit_deviation(echo, j0, baseline, scratch);
+            if (matched_) echo.time_ns = matched_time_ns(echo, j0, baseline, scratch);
         }
         found += got;
         a = b;
     }
     scratch.echoes.resize(found);
+    scratch.next_block = block;
+}
+
+// The RMS difference between an echo's samples and its fitted Gaussian on the baseline (counts):
+// near the digitiser's noise for a clean echo; larger where echoes overlap or the pulse is not
+// Gaussian (a measured shape, a surface that skews it).
+double PulseShader::fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
+                                  const ShadeScratch& scratch) const {
+    const double dt = synth_->period_ns();
+    const double inv = e.sigma_ns > 0 ? 1.0 / (2.0 * e.sigma_ns * e.sigma_ns) : 0.0;
+    double sum = 0;
+    for (std::int64_t j = e.first; j < e.end; ++j) {
+        const double u = double(j) * dt - e.time_ns;
+        const double model = baseline + e.amplitude_counts * std::exp(-u * u * inv);
+        const double r = scratch.counts[static_cast<std::size_t>(j - j0)] - model;
+        sum += r * r;
+    }
+    return e.end > e.first ? std::sqrt(sum / double(e.end - e.first)) : 0.0;
 }
 
 // n standard normals of the pulse's stream 1 into scratch.wave_z, from Philox block `block` on
@@ -209,10 +235,26 @@ double PulseShader::matched_time_ns(const physics::Echo& e, std::int64_t j0, dou
     return e.time_ns + 1e-3 * shift * step_ps;
 }
 
+// An echo's point fields; its place in the pulse's recorded window, if it lies inside it.
+EchoFields PulseShader::echo_fields(const physics::Echo& e, std::uint32_t wave,
+                                    std::int64_t wave_first) const {
+    EchoFields f{static_cast<float>(e.amplitude_counts), static_cast<float>(e.sigma_ns),
+                 static_cast<float>(e.deviation), 0.0f, core::PointRecord::kNoWave};
+    if (wave == core::PointRecord::kNoWave) return f;
+    const double period_ps = 1e3 * synth_->period_ns();
+    const double at_ps = 1e3 * e.time_ns - double(wave_first) * period_ps;
+    if (at_ps >= 0.0 && at_ps <= double(opt_.waveform_samples - 1) * period_ps) {
+        f.wave = wave;
+        f.wave_location_ps = static_cast<float>(at_ps);
+    }
+    return f;
+}
+
 // The reported echoes as pending returns: the strongest when one is kept, else the nearest
 // ones (as the discrete detector chooses). Each takes material and normal from the strongest
 // arrival within 2σ_p of it (else the nearest arrival).
 void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
+                             std::uint32_t wave, std::int64_t wave_first,
                              ShadeScratch& scratch) const {
     auto& echoes = scratch.echoes;
     const int max_returns = std::clamp(sensor_.receiver.max_returns, 1, 8);
@@ -244,6 +286,7 @@ void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival
         }
         const std::uint32_t hit = best >= 0 ? strong : near;
         scratch.pending.push_back({t_ns * kMetersPerNsOneWay, e.pe / e_per_w, i, hit, k++});
+        scratch.echo_fields.push_back(echo_fields(e, wave, wave_first));
     }
 }
 

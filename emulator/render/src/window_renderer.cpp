@@ -28,6 +28,7 @@ void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t fi
     Impl& m = *impl_;
     const RayBatchBuilder builder(m.setup.sensor, trajectory, m.setup.mount, m.setup.options.start);
     m.result.points.swap(out);
+    m.result.samples.clear();
     m.result.stats = {};
     builder.for_each_batch(first, n, m.g, [&](const RayBatch& g) {
         m.hits.resize(g.rays.size());

@@ -193,6 +193,30 @@ void las_files(SeedWriter& w) {
         }
         w.put("fuzz_las", "format" + std::to_string(format) + ".las", slurp(s.path));
     }
+    // Full-waveform formats: packets of 8 samples in the EVLR (a packet per two returns), echo
+    // fields in extra bytes.
+    for (const std::uint8_t format :
+         {std::uint8_t{4}, std::uint8_t{5}, std::uint8_t{9}, std::uint8_t{10}}) {
+        las::LasWriterOptions o;
+        o.point_format = format;
+        o.waveform.samples = 8;
+        o.waveform.bits = format == 4 ? 8 : 16;
+        o.echo_fields = true;
+        auto pts = test::make_points(6, format, 5, 31, 50.0);
+        std::vector<std::uint32_t> samples(24);
+        for (std::size_t k = 0; k < samples.size(); ++k) samples[k] = std::uint32_t(100 + 37 * k);
+        for (std::size_t k = 0; k < pts.size(); ++k) {
+            pts[k].wave = std::uint32_t(8 * (k / 2));
+            pts[k].wave_location_ps = float(1000 * (k % 2 + 2));
+            pts[k].beam_dz = -1;
+        }
+        {
+            las::LasWriter lw(s.path.string(), format >= 6 ? georef : core::Georef{}, o);
+            lw.write_recorded(pts, samples);
+            lw.close();
+        }
+        w.put("fuzz_las", "format" + std::to_string(format) + ".las", slurp(s.path));
+    }
 }
 
 void trajectory_csv(SeedWriter& w) {

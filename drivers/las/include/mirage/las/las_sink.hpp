@@ -27,6 +27,16 @@ class LasSink : public render::PointSink {
                 render::EncodedPoints& out) const override {
         writer_.encode(points, static_cast<Encoded&>(out).records);
     }
+    void write_recorded(std::span<const core::PointRecord> points,
+                        std::span<const std::uint32_t> samples) override {
+        writer_.write_recorded(points, samples);
+        if (keep_) keep_->insert(keep_->end(), points.begin(), points.end());
+    }
+    void encode_recorded(std::span<const core::PointRecord> points,
+                         std::span<const std::uint32_t> samples,
+                         render::EncodedPoints& out) const override {
+        writer_.encode_recorded(points, samples, static_cast<Encoded&>(out).records);
+    }
     void write_encoded(render::EncodedPoints& chunk) override {
         writer_.write_encoded(static_cast<Encoded&>(chunk).records);
     }

@@ -12,8 +12,18 @@
 
 namespace mirage::las {
 
+// Point formats 4, 5, 9 and 10: how a pulse's recorded samples are stored (docs/file-formats.md
+// §6.1). One descriptor (index 1): every packet holds `samples` samples `spacing_ps` apart.
+struct WaveformPackets {
+    std::uint8_t bits = 16;           // per stored sample: 8, 16 or 32 (larger values saturate)
+    std::uint32_t samples = 0;        // per packet, ≥ 1
+    std::uint32_t spacing_ps = 1000;  // ≥ 1
+    double gain = 1.0, offset = 0.0;  // value = offset + gain · stored sample
+    bool external = false;            // leave the packets in <base>.wdp instead of the EVLR
+};
+
 struct LasWriterOptions {
-    std::uint8_t point_format = 6;  // 1, 3 (LAS 1.2-compatible) or 6, 7
+    std::uint8_t point_format = 6;  // 1, 3 (LAS 1.2-compatible), 6, 7; with waveforms 4, 5, 9, 10
     double scale = 0.001;           // 1 mm
     std::uint16_t file_source_id = 0;
     std::string system_identifier = "Mirage emulator";
@@ -22,6 +32,9 @@ struct LasWriterOptions {
     std::uint16_t creation_day = 1;  // day of year, 1-based
     std::uint16_t creation_year = 2025;
     std::size_t buffer_bytes = 1 << 20;  // pwrite(2) granularity; rounded down to whole records
+    WaveformPackets waveform{};          // formats 4, 5, 9, 10 only
+    // Extra bytes after each record: amplitude, echo width, deviation (float32 each).
+    bool echo_fields = false;
 };
 
 // What records add to the header: their count, counts by return and bounds (stored integers).
@@ -40,12 +53,16 @@ struct RecordStats {
 // Point records encoded ahead of writing (LasWriter::encode), with their statistics.
 struct EncodedRecords {
     std::vector<std::uint8_t> bytes;  // whole records, in point order
-    RecordStats stats;                // of the records in `bytes`
-    std::uint64_t rejected = 0;       // points not encodable (see LasWriter::points_rejected)
-    std::uint64_t remapped = 0;       // formats 1/3: class > 31 written as 1
+    // Formats 4, 5, 9, 10: the packets the records refer to; their offsets count from the first
+    // byte here until write_encoded() makes them the file's.
+    std::vector<std::uint8_t> waves;
+    RecordStats stats;           // of the records in `bytes`
+    std::uint64_t rejected = 0;  // points not encodable (see LasWriter::points_rejected)
+    std::uint64_t remapped = 0;  // formats 1/3: class > 31 written as 1
     // Empties it and keeps the capacity (a renderer reuses one per chunk).
     void clear() {
         bytes.clear();
+        waves.clear();
         stats = {};
         rejected = remapped = 0;
     }
@@ -65,6 +82,11 @@ struct EncodedRecords {
 // Formats 1/3 hold 5-bit classes: codes above 31 are written as 1 and counted.
 // Formats 6/7 always carry global-encoding bit 4: the spec makes WKT the only CRS form for
 // them and PDAL refuses such files without the bit, even when no CRS VLR follows.
+// Formats 4, 5, 9, 10 store each pulse's recorded samples once, as a waveform data packet that
+// its returns refer to (write_recorded); packets are streamed to <base>.wdp beside the file, and
+// the header says they are external until close() copies them into the file's EVLR (unless
+// options.waveform.external) and deletes the .wdp, so an interrupted file is valid with them
+// external. A return whose pulse recorded no samples gets descriptor index 0 (no packet).
 // Not thread-safe: one thread writes (encode() alone may run on any thread). Buffered
 // (options.buffer_bytes) with pwrite(2); after each buffer flush, and after each
 // write_encoded() chunk, the on-disk header is updated, so the file is valid between them.
@@ -76,11 +98,17 @@ class LasWriter {
     LasWriter& operator=(const LasWriter&) = delete;
 
     void write(std::span<const core::PointRecord> points);
+    // Points with the samples their PointRecord::wave refers to (formats 4, 5, 9, 10; others
+    // ignore the samples).
+    void write_recorded(std::span<const core::PointRecord> points,
+                        std::span<const std::uint32_t> samples);
     // Encodes points exactly as write() would and appends them to `out`, without writing.
     // Thread-safe (reads only the writer's fixed settings): render workers encode their points
     // in parallel, while they are still in cache, and the writing thread appends them in order
     // with write_encoded(). The two kinds of write may be mixed; order is kept.
     void encode(std::span<const core::PointRecord> points, EncodedRecords& out) const;
+    void encode_recorded(std::span<const core::PointRecord> points,
+                         std::span<const std::uint32_t> samples, EncodedRecords& out) const;
     void write_encoded(const EncodedRecords& records);
     void close();
     // Points accepted (flushed or buffered). After a write error: the whole records on disk.

@@ -15,6 +15,7 @@ struct PointRecord {
     float range_m = 0;            // measured range (with noise)
     float scan_angle_deg = 0;     // LAS scan angle: off-nadir / elevation, degrees
     float azimuth_deg = 0;        // sensor-frame azimuth, clockwise from +x, [0, 360)
+    float amplitude = 0;          // waveform detector: echo peak above baseline, counts (else 0)
     double n_laser = 0;           // photo-electrons of the return (before calibration)
     std::uint16_t intensity = 0;  // calibrated, 0..65535
     std::uint16_t channel = 0;    // laser / beam index
@@ -25,6 +26,15 @@ struct PointRecord {
     std::uint8_t classification = 1;  // LAS class (1 = unclassified)
     std::uint8_t scan_direction = 0;  // LAS scan direction flag
     std::uint8_t edge_of_flight_line = 0;
+    float echo_width_ns = 0;  // waveform detector: the echo's fitted Gaussian σ (else 0)
+    float deviation = 0;      // and the fit's RMS residual over the echo's samples, counts
+    // A render recording waveforms (docs/time-resolved.md §13): the pulse's digitised samples
+    // start at index `wave` of the chunk's samples (kNoWave: none recorded for this return), and
+    // the echo lies wave_location_ps after the first of them.
+    std::uint32_t wave = kNoWave;
+    float wave_location_ps = 0;
+    float beam_dx = 0, beam_dy = 0, beam_dz = 0;  // waveform detector: the beam's unit direction
+    static constexpr std::uint32_t kNoWave = 0xFFFFFFFFu;
 };
 
 }  // namespace mirage::core

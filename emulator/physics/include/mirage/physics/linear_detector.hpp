@@ -18,6 +18,7 @@ struct Echo {
     double amplitude_counts = 0;  // fitted peak above the baseline
     double sigma_ns = 0;          // fitted Gaussian width (RMS)
     double pe = 0;                // photo-electrons of the echo (its samples above the baseline)
+    double deviation = 0;  // RMS of its samples about the fitted Gaussian (set by the caller)
     std::int64_t first = 0, end = 0;  // its samples: from the valley before to the one after
 };
 

@@ -40,6 +40,20 @@ class PointSink {
         (void)out;
     }
     virtual void write_encoded(EncodedPoints& chunk) { (void)chunk; }
+
+    // A render recording waveforms (RenderOptions::waveform_samples) calls these instead of
+    // write() and encode(): `samples` holds the digitised windows the points refer to
+    // (PointRecord::wave indexes it). A sink that does not store waveforms ignores them.
+    virtual void write_recorded(std::span<const core::PointRecord> points,
+                                std::span<const std::uint32_t> samples) {
+        (void)samples;
+        write(points);
+    }
+    virtual void encode_recorded(std::span<const core::PointRecord> points,
+                                 std::span<const std::uint32_t> samples, EncodedPoints& out) const {
+        (void)samples;
+        encode(points, out);
+    }
 };
 
 }  // namespace mirage::render

@@ -26,6 +26,9 @@ struct RenderOptions {
     // contention. Results do not depend on it either.
     std::size_t window_chunks = 0;
     physics::IntensityCalibration intensity;
+    // Digitised samples recorded per pulse with returns (linear detector only; 0: none), from
+    // the first sample of its first echo's arrivals (docs/time-resolved.md §13).
+    std::uint32_t waveform_samples = 0;
 };
 
 // What a render needs besides its output: render(), WindowRenderer and TraceBatches take it. The
