@@ -50,6 +50,12 @@ std::string ground(const std::string& keys) {
     return "{type: heightfield, material: m2, " + keys + "}";
 }
 std::string material(const std::string& keys) { return scene(kBox, "{" + keys + "}"); }
+// The box in its own material `g` on the plane.
+std::string glass_box(const std::string& keys) {
+    return "materials:\n  m: {reflectance: 0.5}\n  g: {" + keys +
+           "}\nobjects:\n  - {type: plane, material: m, size: [80, 80]}\n"
+           "  - {type: box, material: g, size: [3, 3, 3], transform: {translate: [8, 0, 1.5]}}\n";
+}
 
 const std::string kVlp16 = "base: vlp16\n";
 const std::string kAls = "base: als-mirror\n";
@@ -111,7 +117,10 @@ std::vector<KeyCase> cases() {
         {"color", material("reflectance: 0.5"), material("reflectance: 0.5, color: [10, 200, 30]"),
          "", "", "--format 7"},
         {"transmission", material("reflectance: 0.5"),
-         material("reflectance: 0.5, transmission: 0.3"), "", "", "", Expect::Refused},
+         material("reflectance: 0.5, transmission: 0.3")},
+        {"mirror", material("reflectance: 0.2"), material("reflectance: 0.2, mirror: 0.5")},
+        {"refractive_index", glass_box("reflectance: 0"),
+         glass_box("reflectance: 0, refractive_index: 1.5")},
         // Objects.
         {"type", scene(kBox),
          scene("{type: sphere, material: m, radius: 1.5, transform: {translate: [8, 0, 1.5]}}")},
@@ -217,6 +226,12 @@ std::vector<KeyCase> cases() {
          kVlp16 + "receiver: {range_resolution_m: 0.1}\n"},
         {"receiver.max_returns", "", "", kVlp16 + "beam: {sub_rays: 19, divergence_mrad: 30}\n",
          kVlp16 + "beam: {sub_rays: 19, divergence_mrad: 30}\nreceiver: {max_returns: 3}\n"},
+        {"receiver.max_path_depth", material("reflectance: 0.5, transmission: 0.3"),
+         material("reflectance: 0.5, transmission: 0.3"), kVlp16,
+         kVlp16 + "receiver: {max_path_depth: 1}\n"},
+        {"receiver.path_energy_threshold", material("reflectance: 0.5, transmission: 0.3"),
+         material("reflectance: 0.5, transmission: 0.3"), kVlp16,
+         kVlp16 + "receiver: {path_energy_threshold: 0.5}\n"},
         {"noise.range_sigma_m", "", "", kVlp16, kVlp16 + "noise: {range_sigma_m: 0.1}\n"},
         {"noise.jitter_sigma_mrad", "", "", kVlp16, kVlp16 + "noise: {jitter_sigma_mrad: 1}\n"},
         {"spinning.rpm", "", "", kVlp16, kVlp16 + "spinning: {rpm: 900}\n"},

@@ -61,14 +61,17 @@ void PulseShader::single_returns(const RayBatch& g, const std::vector<Hit>& hits
 // Several sub-rays per pulse: their hits merge into returns (split_returns when they spread over
 // more than c·τ/2).
 void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& hits,
-                                    const double* terms, const std::vector<double>& weighted_k,
-                                    ShadeScratch& scratch, RenderStats& stats) const {
+                                    const Ray* rays, const double* terms,
+                                    const std::vector<double>& weighted_k, ShadeScratch& scratch,
+                                    RenderStats& stats) const {
     const std::size_t n = g.specs.size();
-    scratch.contributions.resize(weighted_k.size());
+    const PathScratch* paths = scratch.paths ? &scratch.path : nullptr;
+    scratch.contributions.resize(weighted_k.size() + (paths ? paths->most : 0));
     Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, count)
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t r = g.first_ray[i];
-        const PulseHits ph = gather_hits(&hits[r], &g.rays[r], terms + r, weighted_k, buffer);
+        const PulseHits ph = gather_hits(&hits[r], &rays[r], terms + r, weighted_k, buffer, paths,
+                                         r, static_cast<std::uint32_t>(i));
         stats.pulses++;
         if (ph.count == 0) {
             if (ph.any_close)
@@ -87,7 +90,7 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
             add_returns(ii, r, std::span<const Return>(&one, 1), scratch);
             continue;
         }
-        set_patch_depths(&hits[r], &g.rays[r], contrib);
+        set_patch_depths(&hits[r], &rays[r], contrib);
         split_returns(ii, r, contrib, scratch);
     }
 }
@@ -97,36 +100,45 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
 // them): range span, power-weighted range, power, and the strongest sub-ray (the first of equals).
 PulseShader::PulseHits PulseShader::gather_hits(const Hit* h, const Ray* ray, const double* term,
                                                 const std::vector<double>& weighted_k,
-                                                Contribution* buffer) const {
+                                                Contribution* buffer, const PathScratch* paths,
+                                                std::uint32_t r, std::uint32_t i) const {
     const auto& rx = sensor_.receiver;
     PulseHits out;
     out.lo = std::numeric_limits<double>::infinity();
     out.hi = -out.lo;
     double best_p = -1;
-    for (std::size_t s = 0; s < weighted_k.size(); ++s) {
-        if (!h[s].hit()) continue;
-        const double range = h[s].t;
+    // Entry q (relative to the pulse's first sub-ray) with its sub-ray's power factor k.
+    const auto take = [&](std::uint32_t q, double k) {
+        if (!h[q].hit()) return;
+        const double range = h[q].t;
         if (range < rx.min_range_m) {
             out.any_close = true;
-            continue;
+            return;
         }
-        if (range > rx.max_range_m) continue;
-        double t = term[s];
+        if (range > rx.max_range_m) return;
+        double t = term[q];
         if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
-            const double cos_inc = incidence(ray[s], h[s]);
-            t = -t * physics::monostatic_brdf(scene_.materials[h[s].material], cos_inc);
+            const double cos_inc = incidence(ray[q], h[q]);
+            t = -t * physics::monostatic_brdf(scene_.materials[h[q].material], cos_inc);
         }
-        const double p = weighted_k[s] * t;
-        buffer[out.count++] = {range, p, static_cast<std::uint32_t>(s), 0.0};
+        const double p = k * t;
+        // With continuations a surface that reflects nothing (clear glass, a pure mirror) must
+        // not make a return of its own; without, the first-hit path keeps its behaviour.
+        if (paths && !(p > 0.0)) return;
+        buffer[out.count++] = {range, p, q, 0.0};
         out.lo = std::min(out.lo, range);
         out.hi = std::max(out.hi, range);
         out.sum_rp += range * p;
         out.sum_p += p;
         if (p > best_p) {
             best_p = p;
-            out.best_sub = static_cast<std::uint32_t>(s);
+            out.best_sub = q;
         }
-    }
+    };
+    for (std::size_t s = 0; s < weighted_k.size(); ++s)
+        take(static_cast<std::uint32_t>(s), weighted_k[s]);
+    if (paths)
+        for (const std::uint32_t e : paths->of_pulse(i)) take(e - r, weighted_k[paths->sub[e]]);
     return out;
 }
 

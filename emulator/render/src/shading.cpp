@@ -88,6 +88,7 @@ void jitter_directions(double* __restrict dx, double* __restrict dy, double* __r
 
 PulseShader::PulseShader(const Setup& setup)
     : scene_(setup.scene),
+      renderer_(setup.renderer),
       sensor_(setup.sensor),
       env_(setup.env),
       opt_(setup.options),
@@ -115,7 +116,10 @@ PulseShader::PulseShader(const Setup& setup)
         brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
         diffuse_brdf_.push_back(diffuse);
         point_fields_.push_back({m.red, m.green, m.blue, m.classification});
+        continues_.push_back(m.continues() ? 1 : 0);
+        continues_any_ |= m.continues();
     }
+    if (continues_.empty()) continues_.push_back(0);
     if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     if (point_fields_.empty()) point_fields_.push_back({});
     if (sensor_.detector == sensor::DetectorKind::Linear) {
@@ -160,31 +164,45 @@ void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
     scratch.pending.clear();
     // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
     const std::vector<double> k = weighted_k(subrays);
-    ray_terms(g, hits, scratch);
+    // With continuations the batch's hits are followed by theirs (paths.cpp); returns then index
+    // the longer arrays. Without, everything below is the first-hit path as it always was.
+    scratch.paths = trace_paths(g, hits, scratch, out.stats);
+    const std::vector<Hit>& all = scratch.paths ? scratch.path.hits : hits;
+    const Ray* rays = scratch.paths ? scratch.path.rays.data() : g.rays.data();
+    ray_terms(rays, all, scratch);
     const double* terms = scratch.ray_terms.data();
     if (linear_)
-        waveform_returns(g, hits, terms, k, scratch, out);
-    else if (subrays.size() == 1)
+        waveform_returns(g, all, terms, k, scratch, out);
+    else if (subrays.size() == 1 && !scratch.paths)
         single_returns(g, hits, terms, k[0], scratch, out.stats);
     else
-        clustered_returns(g, hits, terms, k, scratch, out.stats);
+        clustered_returns(g, all, rays, terms, k, scratch, out.stats);
     out.stats.rays += hits.size();
     draw(g.first, scratch);
     electrons(scratch);
-    detect(hits, scratch);
+    detect(all, scratch);
     positions(g, scratch);
-    emit_points(g, hits, scratch, out);
+    emit_points(g, all, scratch, out);
 }
 
 // Per ray of the batch, brdf·cos θ·τ²/R²: see ray_terms() above.
 void PulseShader::ray_terms(const RayBatch& g, const std::vector<Hit>& hits,
                             ShadeScratch& scratch) const {
+    scratch.paths = false;
+    ray_terms(g.rays.data(), hits, scratch);
+}
+
+// The same for `rays` and their hits; a continuation's term carries its path's weight.
+void PulseShader::ray_terms(const Ray* rays, const std::vector<Hit>& hits,
+                            ShadeScratch& scratch) const {
     scratch.ray_terms.resize(hits.size());
-    render::ray_terms(g.rays.data(), hits.data(), brdf_constant_.data(),
+    render::ray_terms(rays, hits.data(), brdf_constant_.data(),
                       static_cast<std::uint32_t>(brdf_constant_.size() - 1),
                       sensor_.receiver.min_range_m, sensor_.receiver.max_range_m,
                       2.0 * env_.atmosphere.extinction_per_m, hits.size(),
                       scratch.ray_terms.data());
+    if (!scratch.paths) return;
+    for (std::size_t e = 0; e < hits.size(); ++e) scratch.ray_terms[e] *= scratch.path.weight[e];
 }
 
 // Photo-electrons, intensity and (for the background) one-way transmission of every pending

@@ -38,6 +38,27 @@ struct PendingReturn {
     std::uint32_t k;    // index among its pulse's reported returns, nearest first
 };
 
+// A batch's paths beyond the first hit (paths.cpp; docs/time-resolved.md §5): the batch's own
+// rays and hits first, then the continuation segments round by round. Per entry: the two-way
+// weight of the surfaces passed before it, the path length before its ray's origin, the sub-ray
+// it descends from and a path code (the roulette's counter). Hit::t is the whole one-way path.
+struct PathScratch {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<double> weight;
+    std::vector<double> base;
+    std::vector<std::uint32_t> sub, code, pulse;
+    std::vector<std::uint32_t> first,
+        order;  // continuations of pulse i: order[first[i], first[i+1])
+    std::vector<Ray> round_rays;
+    std::vector<Hit> round_hits;
+    std::size_t most = 0;  // the most continuations of one pulse
+
+    std::span<const std::uint32_t> of_pulse(std::uint32_t i) const {
+        return {order.data() + first[i], order.data() + first[i + 1]};
+    }
+};
+
 // What the waveform detector adds to a point (see core::PointRecord).
 struct EchoFields {
     float amplitude = 0, width_ns = 0, deviation = 0, wave_location_ps = 0;
@@ -75,6 +96,8 @@ struct ShadeScratch {
     std::array<std::vector<double>, 3> at;   // and point position (local frame)
     // The linear-mode detector's (waveform_returns.cpp): one pulse at a time.
     std::vector<physics::Arrival> arrivals;
+    PathScratch path;
+    bool paths = false;  // this batch has continuations (path.* valid)
     std::vector<double> wave, wave_z, counts, pulse_template;
     std::vector<physics::Echo> echoes;
     std::uint32_t next_block = 0;  // the pulse's next Philox block of stream 1
@@ -110,12 +133,15 @@ class PulseShader {
     // Pulse i's arrivals (docs/time-resolved.md §2): one per sub-ray hit within the receiver's
     // ranges, expected photo-electrons and two-way delay, unsorted. Returns whether a sub-ray hit
     // closer than the minimum range.
+    // `paths` (when the batch has continuations) adds theirs, whose hits follow the batch's.
     bool pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                         const std::vector<double>& weighted_k, std::uint32_t i,
-                        std::vector<physics::Arrival>& out) const;
+                        std::vector<physics::Arrival>& out,
+                        const PathScratch* paths = nullptr) const;
     // Per ray brdf·cos θ·τ²/R² into scratch.ray_terms (shading.cpp), and each sub-ray's power
     // per unit of it.
     void ray_terms(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
+    void ray_terms(const Ray* rays, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     std::vector<double> weighted_k(const std::vector<sensor::SubRay>& subrays) const;
 
   private:
@@ -142,11 +168,14 @@ class PulseShader {
     // returns.cpp: sub-ray hits -> pending returns.
     void single_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                         double k, ShadeScratch& scratch, RenderStats& stats) const;
-    void clustered_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
-                           const std::vector<double>& weighted_k, ShadeScratch& scratch,
-                           RenderStats& stats) const;
+    void clustered_returns(const RayBatch& g, const std::vector<Hit>& hits, const Ray* rays,
+                           const double* terms, const std::vector<double>& weighted_k,
+                           ShadeScratch& scratch, RenderStats& stats) const;
+    // h, ray and term point at the pulse's first sub-ray (batch entry r); its continuations
+    // (paths, when the batch has them) follow the sub-rays, at entries e − r.
     PulseHits gather_hits(const Hit* h, const Ray* ray, const double* term,
-                          const std::vector<double>& weighted_k, Contribution* buffer) const;
+                          const std::vector<double>& weighted_k, Contribution* buffer,
+                          const PathScratch* paths, std::uint32_t r, std::uint32_t i) const;
     void set_patch_depths(const Hit* h, const Ray* ray, std::span<Contribution> contrib) const;
     void split_returns(std::uint32_t i, std::uint32_t first_hit, std::span<Contribution> contrib,
                        ShadeScratch& scratch) const;
@@ -172,6 +201,13 @@ class PulseShader {
     double fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
                          const ShadeScratch& scratch) const;
     void check_recording() const;
+    // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
+    bool any_continuing(const std::vector<Hit>& hits) const;
+    void start_paths(const RayBatch& g, const std::vector<Hit>& hits, PathScratch& p) const;
+    bool trace_paths(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& s,
+                     RenderStats& stats) const;
+    void spawn(std::uint64_t first_pulse, std::size_t e, PathScratch& p, RenderStats& stats) const;
+    void index_by_pulse(std::size_t pulses, std::size_t own, PathScratch& p) const;
     // waveform_record.cpp: the digitised window a render records per pulse with returns.
     void record_group(std::int64_t j0, std::int64_t wave_first, ShadeScratch& scratch) const;
     std::uint32_t record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
@@ -195,6 +231,7 @@ class PulseShader {
     };
 
     const scene::Scene& scene_;
+    const Renderer& renderer_;  // continuation rounds (paths.cpp)
     const sensor::SensorModel& sensor_;
     const physics::Environment& env_;
     const RenderOptions& opt_;
@@ -208,6 +245,8 @@ class PulseShader {
     std::vector<double> brdf_constant_;      // by material index: ρ_d/π (+ retro gain), or −1
     std::vector<double> diffuse_brdf_;       // by material index: ρ_d/π (the sunlit background)
     std::vector<PointFields> point_fields_;  // by material index
+    std::vector<std::uint8_t> continues_;    // by material index: transmits or mirrors
+    bool continues_any_ = false;
     // The linear-mode detector, when the sensor has one (docs/time-resolved.md §7).
     std::optional<physics::LinearDetector> linear_;
     std::optional<physics::WaveformSynth> synth_;

@@ -19,30 +19,35 @@ constexpr std::uint32_t kWaveformStream = 1;  // stream 0: the discrete returns'
 
 bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits,
                                  const double* terms, const std::vector<double>& weighted_k,
-                                 std::uint32_t i, std::vector<physics::Arrival>& out) const {
+                                 std::uint32_t i, std::vector<physics::Arrival>& out,
+                                 const PathScratch* paths) const {
     const auto& rx = sensor_.receiver;
     const double e_per_w = radiometry_.laser_electrons(1.0);
-    const std::uint32_t r = g.first_ray[i];
+    const Ray* rays = paths ? paths->rays.data() : g.rays.data();
     bool close = false;
     out.clear();
-    for (std::uint32_t s = 0; s < weighted_k.size(); ++s) {
-        const Hit& h = hits[r + s];
-        if (!h.hit()) continue;
+    // Batch entry e with its sub-ray's power factor k.
+    const auto take = [&](std::uint32_t e, double k) {
+        const Hit& h = hits[e];
+        if (!h.hit()) return;
         if (h.t < rx.min_range_m) {
             close = true;
-            continue;
+            return;
         }
-        if (h.t > rx.max_range_m) continue;
-        double t = terms[r + s];
+        if (h.t > rx.max_range_m) return;
+        double t = terms[e];
         if (t < 0.0)  // a specular lobe: the BRDF depends on incidence
-            t = -t *
-                physics::monostatic_brdf(scene_.materials[h.material], incidence(g.rays[r + s], h));
-        const double pe = weighted_k[s] * t * e_per_w;
-        if (!(pe > 0.0)) continue;
+            t = -t * physics::monostatic_brdf(scene_.materials[h.material], incidence(rays[e], h));
+        const double pe = k * t * e_per_w;
+        if (!(pe > 0.0)) return;
         // h.t > 0: rounding by adding ½ (llround was a library call per sub-ray).
         const auto delay = static_cast<std::int64_t>(h.t * kPsPerMeterTwoWay + 0.5);
-        out.push_back({delay, static_cast<float>(pe), r + s});
-    }
+        out.push_back({delay, static_cast<float>(pe), e});
+    };
+    const std::uint32_t r = g.first_ray[i];
+    for (std::uint32_t s = 0; s < weighted_k.size(); ++s) take(r + s, weighted_k[s]);
+    if (paths)
+        for (const std::uint32_t e : paths->of_pulse(i)) take(e, weighted_k[paths->sub[e]]);
     return close;
 }
 
@@ -78,7 +83,8 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
     auto& arrivals = scratch.arrivals;
     scratch.echo_fields.clear();
     for (std::uint32_t i = 0; i < g.specs.size(); ++i) {
-        const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals);
+        const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
+                                          scratch.paths ? &scratch.path : nullptr);
         out.stats.pulses++;
         if (arrivals.empty()) {
             if (close)

@@ -289,7 +289,8 @@ class SceneLoader {
                 require_map(m, p);
                 check_keys(m, p,
                            {"reflectance", "specular", "specular_exponent", "retroreflective",
-                            "retro_gain", "transmission", "classification", "color"});
+                            "retro_gain", "transmission", "mirror", "refractive_index",
+                            "classification", "color"});
                 if (m["reflectance"])
                     mat.reflectance = number_in(m["reflectance"], sub(p, "reflectance"), 0, 1);
                 if (m["specular"])
@@ -306,13 +307,7 @@ class SceneLoader {
                     mat.retroreflective = boolean(m["retroreflective"], sub(p, "retroreflective"));
                 if (m["retro_gain"])
                     mat.retro_gain = number_in(m["retro_gain"], sub(p, "retro_gain"), 0, 1e9);
-                // Reserved: light through surfaces needs the time-resolved radiometry of issue 20;
-                // until then a value would be silently ignored, so it is refused.
-                if (m["transmission"])
-                    fail(sub(p, "transmission"),
-                         "light through surfaces is not modelled yet (planned with the "
-                         "time-resolved radiometry); remove the key",
-                         m["transmission"]);
+                paths(m, p, mat);
                 if (m["classification"]) {
                     mat.classification = static_cast<std::uint8_t>(
                         integer(m["classification"], sub(p, "classification"), 0, 255));
@@ -333,6 +328,35 @@ class SceneLoader {
                 }
             }
             by_name_.by_name[name] = scene_.add_material(std::move(mat));
+        }
+    }
+
+    // Transmission, mirror and glass (docs/file-formats.md §1): impossible optics name the key.
+    void paths(const YAML::Node& m, const std::string& p, Material& mat) {
+        if (m["transmission"])
+            mat.transmission = number_in(m["transmission"], sub(p, "transmission"), 0, 1);
+        if (m["mirror"]) mat.mirror = number_in(m["mirror"], sub(p, "mirror"), 0, 1);
+        if (m["refractive_index"]) {
+            const YAML::Node& n = m["refractive_index"];
+            mat.refractive_index = number_in(n, sub(p, "refractive_index"), 1, 10);
+            if (m["transmission"] || m["mirror"])
+                fail(sub(p, "refractive_index"),
+                     "glass sets its own transmission and mirror fractions; remove those keys", n);
+            if (!m["reflectance"]) mat.reflectance = 0.0;  // clear glass
+            const double r = face_reflectance(mat.refractive_index);
+            mat.transmission = (1 - r) * (1 - r);
+            mat.mirror = 1 - mat.transmission;
+        }
+        const double sum = mat.reflectance + mat.specular + mat.transmission + mat.mirror;
+        if (sum > 1 + 1e-12) {
+            const char* key = m["refractive_index"] ? "refractive_index"
+                              : m["mirror"]         ? "mirror"
+                              : m["transmission"]   ? "transmission"
+                                                    : "specular";
+            fail(sub(p, key),
+                 "reflectance + specular + transmission + mirror must not exceed 1 (energy); "
+                 "glass passes and mirrors all of it",
+                 m[key] ? m[key] : m);
         }
     }
 

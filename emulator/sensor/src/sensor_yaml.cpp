@@ -200,7 +200,7 @@ void read_receiver(const Reader& r, const YAML::Node& n, ReceiverParams& x) {
                 {"aperture_mm", "f_number", "detector_area_mm2", "eta_transmitter", "eta_receiver",
                  "quantum_efficiency", "detector_bandwidth_nm", "integration_time_ns",
                  "noise_irradiance_sigma", "threshold_gamma", "min_range_m", "max_range_m",
-                 "range_resolution_m", "max_returns"});
+                 "range_resolution_m", "max_returns", "max_path_depth", "path_energy_threshold"});
     const auto get = [&](const char* key, double lo, double hi, bool lo_open, double scale,
                          double& out) {
         if (n[key]) out = scale * r.number(n[key], join_path("receiver", key), lo, hi, lo_open);
@@ -221,6 +221,10 @@ void read_receiver(const Reader& r, const YAML::Node& n, ReceiverParams& x) {
     if (n["max_returns"])
         x.max_returns =
             static_cast<int>(r.integer(n["max_returns"], "receiver.max_returns", 1, kMaxReturns));
+    if (n["max_path_depth"])
+        x.max_path_depth = static_cast<int>(
+            r.integer(n["max_path_depth"], "receiver.max_path_depth", 1, kMaxPathDepth));
+    get("path_energy_threshold", 0, 1, false, 1.0, x.path_energy_threshold);
     if (x.min_range_m >= x.max_range_m)
         r.fail(n["max_range_m"] ? "receiver.max_range_m" : "receiver.min_range_m",
                "min_range_m " + num(x.min_range_m) + " must be below max_range_m " +

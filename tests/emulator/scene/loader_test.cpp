@@ -101,6 +101,23 @@ TEST(Loader, text_in_memory_resolves_files_against_the_given_folder) {
     }
 }
 
+// A leaf's transmission and a mirror fraction as given; glass of n = 1.5 passes (1 − R)² =
+// 0.9216 and mirrors the rest, with no diffuse reflectance unless one is given.
+TEST(Loader, path_materials_read_their_fractions_and_glass_derives_them) {
+    const Scene s = load_scene_text(
+        "materials:\n  leaf: {reflectance: 0.3, transmission: 0.4}\n  wet: {reflectance: 0.1, "
+        "mirror: 0.6}\n  glass: {refractive_index: 1.5}\nobjects:\n  - {type: plane, "
+        "material: leaf, size: [1, 1]}\n",
+        "mem.yaml", ".");
+    ASSERT_EQ(s.materials.size(), 3u);
+    EXPECT_EQ(s.materials[0].transmission, 0.4);
+    EXPECT_TRUE(s.materials[0].continues());
+    EXPECT_EQ(s.materials[1].mirror, 0.6);
+    EXPECT_EQ(s.materials[2].reflectance, 0.0);
+    EXPECT_NEAR(s.materials[2].transmission, 0.9216, 1e-12);
+    EXPECT_NEAR(s.materials[2].mirror, 0.0784, 1e-12);
+}
+
 TEST(Loader, transform_scales_then_rotates_then_translates) {
     test::TempDir dir;
     const std::string yaml = std::string(kMaterials) +
@@ -266,8 +283,19 @@ TEST(LoaderErrors, bad_values_name_the_key_path) {
                        {"materials.m.classification: must be in 0..255"});
     expect_scene_error("materials:\n  m: {color: [1, 2]}\nobjects: []\n",
                        {"materials.m.color: expected 3 integers"});
-    expect_scene_error("materials:\n  m: {transmission: 0.3}\nobjects: []\n",
-                       {"materials.m.transmission: light through surfaces is not modelled yet"});
+    expect_scene_error("materials:\n  m: {reflectance: 0.5, transmission: 0.6}\nobjects: []\n",
+                       {"materials.m.transmission: reflectance + specular + transmission + mirror "
+                        "must not exceed 1"});
+    expect_scene_error(
+        "materials:\n  m: {reflectance: 0.5, mirror: 0.3, transmission: 0.3}\n"
+        "objects: []\n",
+        {"materials.m.mirror: reflectance + specular + transmission + mirror"});
+    expect_scene_error("materials:\n  m: {refractive_index: 0.9}\nobjects: []\n",
+                       {"materials.m.refractive_index: must be in [1, 10]"});
+    expect_scene_error("materials:\n  m: {refractive_index: 1.5, transmission: 0.5}\nobjects: []\n",
+                       {"materials.m.refractive_index: glass sets its own transmission"});
+    expect_scene_error("materials:\n  m: {refractive_index: 1.5, reflectance: 0.1}\nobjects: []\n",
+                       {"materials.m.refractive_index: reflectance + specular"});
     expect_scene_error("materials:\n  m: {retroreflective: maybe}\nobjects: []\n",
                        {"materials.m.retroreflective: expected true or false"});
     expect_scene_error(m + "objects: []\n", {"objects: expected a non-empty list"});

@@ -11,6 +11,10 @@ struct RenderStats {
     std::uint64_t voids = 0;      // hit but N_laser < γ·ΔN
     std::uint64_t too_close = 0;  // hit nearer than min range
     std::uint64_t rays = 0;       // sub-rays traced
+    // Paths beyond the first hit (docs/time-resolved.md §5): continuation segments traced, and
+    // paths that could have gone on but met the depth limit or lost the roulette.
+    std::uint64_t path_segments = 0;
+    std::uint64_t paths_cut = 0;
     double seconds = 0;
     // CPU time per stage summed over threads (each worker's CPU clock per chunk, split between the
     // stages by the steady clock): where the time goes, independent of other processes.
@@ -31,6 +35,8 @@ struct RenderStats {
         voids += s.voids;
         too_close += s.too_close;
         rays += s.rays;
+        path_segments += s.path_segments;
+        paths_cut += s.paths_cut;
     }
 };
 

@@ -17,9 +17,22 @@ struct Material {
     double specular_exponent = 20.0;  // Phong exponent of that lobe
     bool retroreflective = false;     // corner-cube sheeting: strong return near the source
     double retro_gain = 100.0;  // retroreflective BRDF at the source, sr⁻¹ (Lambertian 0.5 → 0.16)
+    // Paths beyond the first hit (docs/time-resolved.md §5): the fraction a thin surface passes
+    // on in the same direction (a leaf's transmittance), the fraction it reflects as a perfect
+    // mirror, and for glass the refractive index n (0: not glass), which sets both for a pane:
+    // transmission (1 − R)², mirror 1 − (1 − R)², with R = ((n − 1)/(n + 1))² per face.
+    double transmission = 0.0;
+    double mirror = 0.0;
+    double refractive_index = 0.0;
     std::uint8_t classification = 1;  // LAS class code
     std::uint16_t red = 32768, green = 32768, blue = 32768;
+
+    // Whether a path reaching this surface goes on (transmitted or mirrored).
+    bool continues() const { return transmission > 0.0 || mirror > 0.0; }
 };
+
+// Fresnel reflectance of one face at normal incidence, ((n − 1)/(n + 1))².
+inline double face_reflectance(double n) { return ((n - 1) / (n + 1)) * ((n - 1) / (n + 1)); }
 
 // Triangle mesh in float32, coordinates relative to the scene anchor (or to its instance frame).
 struct Mesh {

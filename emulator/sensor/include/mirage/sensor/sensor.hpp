@@ -34,6 +34,8 @@ struct BeamParams {
 inline constexpr int kMaxReturns = 8;
 
 // Receiver and detector (docs/physics.md eqs. (4)–(13)).
+inline constexpr int kMaxPathDepth = 8;
+
 struct ReceiverParams {
     double aperture_diameter_m = 0.025;
     double f_number = 1.0;
@@ -49,6 +51,10 @@ struct ReceiverParams {
     double max_range_m = 120.0;
     double range_resolution_m = 0.0;  // output quantisation (0 = none)
     int max_returns = 1;  // returns per pulse kept (strongest first when 1), ≤ kMaxReturns
+    // Paths beyond the first hit (docs/time-resolved.md §5): surfaces a path may meet (1: the
+    // first hit only), and the path weight below which it goes on only by Russian roulette.
+    int max_path_depth = 4;
+    double path_energy_threshold = 1e-3;
 };
 
 // Measurement noise (docs/physics.md eqs. (14)–(15)).
