@@ -9,12 +9,14 @@
 
 #include "commands.hpp"
 #include "job.hpp"
+#include "las_options.hpp"
 #include "mirage/core/trajectory.hpp"
 #include "mirage/image/preview.hpp"
 #include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
 #include "progress.hpp"
 #include "summary.hpp"
+#include "waveform_preview.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -24,6 +26,7 @@ struct DemoRun {
     const char* sensor;
     const char* trajectory;
     const char* seconds;
+    LasChoice las = {};
 };
 
 // Range image of the last revolution (spinning) or of the scan lines (airborne).
@@ -87,9 +90,7 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     const auto las_path = dir / fmt::format("demo_{}.las", run.name);
     const auto csv_path = dir / fmt::format("demo_{}_trajectory.csv", run.name);
     core::save_trajectory_csv(csv_path.string(), job.trajectory);
-    las::LasWriterOptions lo;
-    lo.file_source_id = job.sensor.point_source_id;
-    las::LasWriter writer(las_path.string(), job.scene->georef, lo);
+    las::LasWriter writer(las_path.string(), job.scene->georef, writer_options(run.las, job));
     std::vector<core::PointRecord> points;
     // Reserve up front: growing a multi-gigabyte vector while rendering stalls the writer thread.
     points.reserve(job.sensor.scan->pulse_count(job.options.duration));
@@ -111,19 +112,26 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
     fmt::print(
         "  LAS        {}\n  trajectory {}\n  previews   {}\n             {}\n             {}\n",
         las_path.string(), csv_path.string(), top_h.string(), top_i.string(), range.string());
+    if (run.las.waveform) {
+        const auto png = dir / fmt::format("demo_{}_waveforms.png", run.name);
+        write_waveform_preview(png.string(), las::LasFile::read(las_path.string()), {});
+    }
 }
 
 }  // namespace
 
 void register_demo(CLI::App& app) {
     auto* cmd = app.add_subcommand(
-        "demo", "Render the demo town: VLP-16 car drive and airborne mirror flight");
+        "demo",
+        "Render the demo town: VLP-16 car drive, airborne mirror flight and a full-waveform "
+        "flight");
     struct Opts {
         std::string out_dir = ".";
         std::uint64_t seed = 1;
         int threads = 0;
         std::string car_seconds = "10";
         std::string flight_seconds = "6";
+        std::string waveform_seconds = "0.25";
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--out-dir", o->out_dir, "Where the LAS files and previews go")
@@ -133,6 +141,9 @@ void register_demo(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--car-seconds", o->car_seconds, "Length of the drive")->capture_default_str();
     cmd->add_option("--flight-seconds", o->flight_seconds, "Length of the flight")
+        ->capture_default_str();
+    cmd->add_option("--waveform-seconds", o->waveform_seconds,
+                    "Length of the full-waveform flight (0: none)")
         ->capture_default_str();
     cmd->callback([o] {
         const std::filesystem::path dir = std::filesystem::absolute(o->out_dir).lexically_normal();
@@ -149,6 +160,14 @@ void register_demo(CLI::App& app) {
                 o->threads, scene, scene_seconds, renderer);
         run_one({"als", "als-mirror", "demo-flight", o->flight_seconds.c_str()}, scene_spec, dir,
                 o->seed, o->threads, scene, scene_seconds, renderer);
+        // Waveforms recorded over 256 samples (38 m): a roof edge or a crown and the ground.
+        if (parse_seconds(o->waveform_seconds, "--waveform-seconds").count() > 0)
+            run_one({"als_waveform",
+                     "als-waveform",
+                     "demo-flight",
+                     o->waveform_seconds.c_str(),
+                     {6, 0.001, true, 256, false}},
+                    scene_spec, dir, o->seed, o->threads, scene, scene_seconds, renderer);
         fmt::print("\nDemo outputs are in {}\n", dir.string());
     });
 }

@@ -5,8 +5,8 @@
 
 #include "commands.hpp"
 #include "mirage/core/error.hpp"
-#include "mirage/image/waveform_plot.hpp"
 #include "mirage/las/las_reader.hpp"
+#include "waveform_preview.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -50,49 +50,6 @@ void print_waveforms(const las::LasFile& f) {
             d.index, d.bits, d.compression, d.samples, d.spacing_ps, d.offset, d.gain);
 }
 
-// Points to plot: those asked for, or the first four packets with the most returns.
-std::vector<std::uint64_t> chosen_points(const las::LasFile& f, const Opts& o) {
-    if (!o.points.empty()) return o.points;
-    std::vector<std::uint64_t> out;
-    const auto& pts = f.points();
-    for (int most = 15; most >= 1 && out.size() < 4; --most)
-        for (std::uint64_t k = 0; k < pts.size() && out.size() < 4; ++k)
-            if (pts[k].wave_index != 0 && pts[k].return_number == 1 &&
-                pts[k].number_of_returns == most)
-                out.push_back(k);
-    return out;
-}
-
-// One panel per chosen point: its packet, and every return of the file that shares it.
-void plot_waveforms(const las::LasFile& f, const Opts& o) {
-    const auto& pts = f.points();
-    std::vector<image::WaveformPanel> panels;
-    for (const std::uint64_t k : chosen_points(f, o)) {
-        if (k >= pts.size())
-            throw ConfigError(
-                fmt::format("las-info: --points {}: the file has {} points", k, pts.size()));
-        const las::LasPoint& p = pts[k];
-        image::WaveformPanel panel{f.waveform(p), {}};
-        if (panel.samples.empty())
-            throw ConfigError(fmt::format("las-info: point {} has no valid waveform packet", k));
-        const double spacing = f.descriptor(p.wave_index)->spacing_ps;
-        std::string at;
-        const std::uint64_t lo = k >= 15 ? k - 15 : 0,
-                            hi = std::min<std::uint64_t>(k + 16, pts.size());
-        for (std::uint64_t j = lo; j < hi; ++j) {
-            if (pts[j].wave_index != p.wave_index || pts[j].wave_offset != p.wave_offset) continue;
-            panel.returns.push_back(pts[j].wave_location_ps / spacing);
-            at += fmt::format(" {:.0f}", pts[j].wave_location_ps);
-        }
-        fmt::print("  panel {}: point {}, GPS {:.6f}, returns at{} ps\n", panels.size(), k,
-                   p.gps_time, at);
-        panels.push_back(std::move(panel));
-    }
-    if (panels.empty()) throw ConfigError("las-info: no point with a waveform packet to plot");
-    image::write_waveforms_png(o.waveform_png, panels);
-    fmt::print("  wrote {} ({} waveforms)\n", o.waveform_png, panels.size());
-}
-
 }  // namespace
 
 void register_las_info(CLI::App& app) {
@@ -112,7 +69,8 @@ void register_las_info(CLI::App& app) {
         print_waveforms(f);
         const auto problems = f.validate();
         for (const auto& p : problems) fmt::print("  PROBLEM: {}\n", p);
-        if (!opts->waveform_png.empty()) plot_waveforms(f, *opts);
+        if (!opts->waveform_png.empty())
+            write_waveform_preview(opts->waveform_png, f, opts->points);
         if (!problems.empty()) throw CLI::RuntimeError(1);
         fmt::print("  valid\n");
     });

@@ -12,6 +12,11 @@ void print_summary(std::FILE* out, const char* what, const Job& job, const rende
     const double sim = std::chrono::duration<double>(job.options.duration).count();
     fmt::print(out, "mirage {}: {} pulses, {} points, {} voids, {} misses, {} too close\n", what,
                s.pulses, s.points, s.voids, s.misses, s.too_close);
+    if (s.path_segments > 0 || s.paths_cut > 0)
+        fmt::print(out,
+                   "  paths beyond the first hit: {} segments traced (in the physics share), {} "
+                   "cut by the depth limit or the roulette\n",
+                   s.path_segments, s.paths_cut);
     const auto& bs = job.renderer->build_stats();
     fmt::print(
         out,

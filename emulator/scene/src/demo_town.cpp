@@ -37,7 +37,7 @@ Material material(const char* name, double reflectance, std::uint8_t cls, int r,
 
 struct Materials {
     std::uint32_t ground, asphalt, walls[3], roofs[2], bark, crown, paint, glass, tyre, sign_face,
-        sign_metal;
+        sign_metal, facade;
 };
 
 Materials add_materials(Scene& s) {
@@ -53,7 +53,10 @@ Materials add_materials(Scene& s) {
     metal_roof.specular_exponent = 40;
     m.roofs[1] = s.add_material(metal_roof);
     m.bark = s.add_material(material("tree_bark", 0.25, 5, 90, 70, 50));
+    // A crown is a shell around foliage: each surface passes 40 % on (time-resolved.md §5), so
+    // pulses reach the far side of the crown and the ground below as they do through leaves.
     Material crown = material("tree_crown", 0.4, 5, 60, 120, 50);
+    crown.transmission = 0.4;
     m.crown = s.add_material(crown);
     // Vehicles and street furniture: LAS 1.4 class 64 (first user-definable code).
     Material paint = material("car_paint", 0.25, 64, 180, 30, 30);
@@ -72,6 +75,12 @@ Materials add_materials(Scene& s) {
     Material steel = material("sign_metal", 0.3, 64, 150, 150, 155);
     steel.specular = 0.2;
     m.sign_metal = s.add_material(steel);
+    // The first building's front: a glass facade (n = 1.5: 92 % through, the rest mirrored).
+    Material facade = material("facade_glass", 0.0, 6, 120, 160, 180);
+    facade.refractive_index = 1.5;
+    facade.transmission = (1 - face_reflectance(1.5)) * (1 - face_reflectance(1.5));
+    facade.mirror = 1 - facade.transmission;
+    m.facade = s.add_material(facade);
     return m;
 }
 
@@ -340,8 +349,9 @@ Scene make_demo_town(const DemoTownOptions& opt) {
             for (int k = 0; k < 4; ++k) {
                 const Eigen::Vector2d& p = corner[k];
                 const Eigen::Vector2d& q = corner[(k + 1) % 4];
+                const bool glass_front = placed == 1 && k == 0;
                 add_face(b, {at(p, base), at(q, base), at(q, eave), at(p, eave)}, centre,
-                         mat.walls[wall]);
+                         glass_front ? mat.facade : mat.walls[wall]);
             }
             const Eigen::Vector2d ridge_w = c + r * Eigen::Vector2d(-lx / 2, 0);
             const Eigen::Vector2d ridge_e = c + r * Eigen::Vector2d(lx / 2, 0);

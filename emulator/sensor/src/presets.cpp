@@ -205,6 +205,24 @@ AirborneConfig als_config(AirborneKind kind, double prf_khz, double rate_hz, dou
     return c;
 }
 
+// A full-waveform airborne scanner (docs/sensors.md §1): als-mirror's 1064 nm optics and scan,
+// 19 sub-rays, a 4 ns pulse and a 1 GS/s, 14-bit digitiser behind a silicon APD. The gain keeps
+// a 30 % target at 200 m (2·10⁴ photo-electrons in the peak sample) inside full scale.
+SensorModel als_waveform() {
+    SensorModel m = airborne_model("als-waveform", als_config(AirborneKind::Sawtooth, 500, 50, 40));
+    m.beam.sub_rays = 19;
+    m.detector = DetectorKind::Linear;
+    m.linear.sample_rate_gsps = 1.0;
+    m.linear.bits = 14;
+    m.linear.offset_counts = 200;
+    m.linear.gain_counts_per_pe = 0.5;
+    m.linear.apd_gain = 100;
+    m.linear.apd_k = 0.02;
+    m.linear.thermal_noise_pe = 3;
+    m.linear.dark_current_na = 1;
+    return m;
+}
+
 }  // namespace
 
 double detector_area_for_ifov(double ifov_rad, double aperture_diameter_m, double f_number) {
@@ -231,7 +249,8 @@ double lambertian_electrons(const BeamParams& beam, const ReceiverParams& rx, do
 std::vector<std::string> preset_names() {
     std::vector<std::string> names = {"vlp16", "vlp16-hires", "vlp32c", "hdl32e", "hdl64e-s3"};
     for (auto& n : detail::ouster_preset_names()) names.push_back(std::move(n));
-    for (const char* n : {"als-mirror", "als-mirror-sine", "als-polygon", "als-palmer"})
+    for (const char* n :
+         {"als-mirror", "als-mirror-sine", "als-polygon", "als-palmer", "als-waveform"})
         names.emplace_back(n);
     return names;
 }
@@ -267,6 +286,7 @@ SensorModel preset(const std::string& name) {
     // Palmer cone of half-angle 20°, 50 rev/s (100 lines/s, forward and backward), 1 MHz.
     if (name == "als-palmer")
         return airborne_model(name, als_config(AirborneKind::Palmer, 1000, 50, 40));
+    if (name == "als-waveform") return als_waveform();
     std::string known;
     for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
     throw ConfigError("sensor: unknown preset '" + name + "' (known: " + known + ")");

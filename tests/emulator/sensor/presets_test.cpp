@@ -16,8 +16,8 @@ namespace {
 
 TEST(Presets, every_preset_constructs_with_unit_directions) {
     const auto names = preset_names();
-    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 4 airborne.
-    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 4u);
+    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 5 airborne.
+    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 5u);
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
     for (const auto& name : names) {
         const SensorModel m = preset(name);
@@ -26,7 +26,9 @@ TEST(Presets, every_preset_constructs_with_unit_directions) {
         EXPECT_GT(m.scan->channels(), 0u) << name;
         EXPECT_GT(m.scan->pulse_rate_hz(), 0.0) << name;
         EXPECT_EQ(m.point_source_id, 1) << name;
-        EXPECT_EQ(m.beam.sub_rays, 1) << name;
+        // One sub-ray but for the full-waveform preset, whose footprint spreads its echoes.
+        EXPECT_EQ(m.beam.sub_rays, name == "als-waveform" ? 19 : 1) << name;
+        EXPECT_EQ(m.detector == DetectorKind::Linear, name == "als-waveform") << name;
         EXPECT_LT(m.receiver.min_range_m, m.receiver.max_range_m) << name;
         EXPECT_GT(m.noise.range_sigma_m, 0.0) << name;
         std::vector<PulseSpec> p(m.scan->group_size());
