@@ -66,6 +66,23 @@ void markdown_detectors(std::ostream& md, const BenchReport& r) {
             fig(d.waveform_points_per_s / 1e6));
 }
 
+void markdown_paths(std::ostream& md, const BenchReport& r) {
+    if (r.paths.empty()) return;
+    md << "\n## Path depth (same rays, same run)\n\n"
+          "The same job with `receiver.max_path_depth` 1 (first hits only), 2 and 3 on the demo "
+          "town, whose tree crowns pass light on and whose first building has a glass front, and "
+          "the Embree ceiling of the first-hit rays, interleaved; the best run of each "
+          "(docs/time-resolved.md §5).\n\n"
+          "| sensor | sub-rays | depth | pulses | M pulses/s | / depth 1 | / ceiling | segments "
+          "per pulse | M points/s |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& p : r.paths)
+        md << fmt::format("| {} | {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.4f} | {:.3f} |\n",
+                          p.sensor, p.sub_rays, p.depth, p.pulses, fig(p.pulses_per_s / 1e6),
+                          fig(p.to_first_hit()), fig(p.to_ceiling()), fig(p.segments_per_pulse),
+                          fig(p.points_per_s / 1e6));
+}
+
 void markdown_errors(std::ostream& md, const BenchReport& r) {
     md << "## Run time against error (VLP-16, demo drive, noise off)\n\n"
           "Each render against a denser reference (37 sub-rays); the last row is that "
@@ -111,6 +128,7 @@ void write_markdown(const BenchReport& r, const std::string& path) {
         fig(double(r.bvh_bytes) / 1e6), fig(per_triangle(r)));
     markdown_throughput(md, r);
     markdown_detectors(md, r);
+    markdown_paths(md, r);
     md << fmt::format(
         "\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} points).\n\n",
         fig(r.las_points_per_s / 1e6), fig(r.las_mb_per_s), r.las_points);
@@ -144,6 +162,19 @@ nlohmann::ordered_json detector_json(const DetectorRow& d) {
             {"ceiling_pulses_per_s", d.ceiling_pulses_per_s},
             {"waveform_to_discrete", d.to_discrete()},
             {"waveform_to_ceiling", d.to_ceiling()}};
+}
+
+nlohmann::ordered_json path_json(const PathRow& p) {
+    return {{"sensor", p.sensor},
+            {"sub_rays", p.sub_rays},
+            {"depth", p.depth},
+            {"pulses", p.pulses},
+            {"repeats", p.repeats},
+            {"pulses_per_s", p.pulses_per_s},
+            {"ceiling_pulses_per_s", p.ceiling_pulses_per_s},
+            {"to_first_hit", p.to_first_hit()},
+            {"to_ceiling", p.to_ceiling()},
+            {"segments_per_pulse", p.segments_per_pulse}};
 }
 
 nlohmann::ordered_json error_json(const ErrorRow& e) {
@@ -183,10 +214,12 @@ std::string report_json(const BenchReport& r) {
                                 {"las_mb_per_s", r.las_mb_per_s},
                                 {"throughput", nlohmann::ordered_json::array()},
                                 {"waveform_detector", nlohmann::ordered_json::array()},
+                                {"path_depth", nlohmann::ordered_json::array()},
                                 {"time_vs_error", nlohmann::ordered_json::array()},
                                 {"bvh_quality", nlohmann::ordered_json::array()}};
     for (const auto& t : r.throughput) j["throughput"].push_back(throughput_json(t));
     for (const auto& d : r.detectors) j["waveform_detector"].push_back(detector_json(d));
+    for (const auto& p : r.paths) j["path_depth"].push_back(path_json(p));
     for (const auto& e : r.errors) j["time_vs_error"].push_back(error_json(e));
     for (const auto& b : r.bvh) j["bvh_quality"].push_back(bvh_json(b));
     return j.dump(2) + "\n";

@@ -42,6 +42,25 @@ struct DetectorRow {
     }
 };
 
+// One sensor at one path depth (docs/time-resolved.md §5) on the demo town, whose crowns and
+// glass front continue paths; depth 1 is the first-hit pipeline on the same rays.
+struct PathRow {
+    std::string sensor;
+    int sub_rays = 7;
+    int depth = 1;
+    std::uint64_t pulses = 0;
+    int repeats = 1;
+    double pulses_per_s = 0, points_per_s = 0, ceiling_pulses_per_s = 0;
+    double segments_per_pulse = 0;      // continuation segments traced per pulse
+    double first_hit_pulses_per_s = 0;  // the same sensor's depth-1 row
+    double to_ceiling() const {
+        return ceiling_pulses_per_s > 0 ? pulses_per_s / ceiling_pulses_per_s : 0;
+    }
+    double to_first_hit() const {
+        return first_hit_pulses_per_s > 0 ? pulses_per_s / first_hit_pulses_per_s : 0;
+    }
+};
+
 // Error of a render against a denser reference (same BVH: its quality never changes a hit).
 struct ErrorRow {
     int sub_rays = 1;
@@ -68,6 +87,7 @@ struct BenchReport {
     std::uint64_t triangles_placed = 0, unique_triangles = 0, bvh_bytes = 0;
     std::vector<ThroughputRow> throughput;
     std::vector<DetectorRow> detectors;
+    std::vector<PathRow> paths;
     double las_points_per_s = 0, las_mb_per_s = 0;
     std::uint64_t las_points = 0;
     std::vector<ErrorRow> errors;

@@ -164,6 +164,58 @@ void bench_detectors(const BenchBase& base, const Job& shared, const Opts& o, Be
     }
 }
 
+// One sensor at path depths 1–3 on the same job, interleaved with the first-hit ceiling.
+std::vector<PathRow> path_rows(const BenchBase& base, const Job& shared, const char* sensor,
+                               const char* trajectory, int sub_rays, const Opts& o) {
+    Job job = row_job(base, shared, sensor, trajectory, sub_rays, o);
+    std::vector<PathRow> rows(3);
+    const int repeats = o.quick && !o.repeat_given ? 1 : o.repeat;
+    double ceiling = 0;
+    for (int k = 0; k < repeats; ++k) {
+        for (int d = 1; d <= 3; ++d) {
+            job.sensor.receiver.max_path_depth = d;
+            const render::RenderStats s = run_pipeline_to_null(job);
+            PathRow& row = rows[static_cast<std::size_t>(d - 1)];
+            const double rate = double(s.pulses) / s.seconds;
+            if (rate > row.pulses_per_s) {
+                row.pulses_per_s = rate;
+                row.points_per_s = double(s.points) / s.seconds;
+            }
+            row.segments_per_pulse =
+                double(s.path_segments) / double(std::max<std::uint64_t>(1, s.pulses));
+        }
+        ceiling = std::max(ceiling, trace_ceiling(job.setup()).pulses_per_s());
+    }
+    for (int d = 1; d <= 3; ++d) {
+        PathRow& row = rows[static_cast<std::size_t>(d - 1)];
+        row.sensor = sensor;
+        row.sub_rays = sub_rays;
+        row.depth = d;
+        row.pulses = job.sensor.scan->pulse_count(job.options.duration);
+        row.repeats = repeats;
+        row.ceiling_pulses_per_s = ceiling;
+        row.first_hit_pulses_per_s = rows[0].pulses_per_s;
+        fmt::print(
+            "{:>11} sub-rays {:>2} depth {}: {:6.3f} M pulses/s | / depth 1 {:.2f} | / ceiling "
+            "{:.2f} | {:.4f} segments per pulse\n",
+            sensor, sub_rays, d, row.pulses_per_s / 1e6, row.to_first_hit(), row.to_ceiling(),
+            row.segments_per_pulse);
+    }
+    return rows;
+}
+
+// The path-depth rows: 7 sub-rays, the car and the flight over the demo town.
+void bench_paths(const BenchBase& base, const Job& shared, const Opts& o, BenchReport& report) {
+    for (auto [sensor, trajectory] :
+         {std::pair{"vlp16", "demo-car"}, {"als-mirror", "demo-flight"}}) {
+        if (!o.sensors.empty() &&
+            std::find(o.sensors.begin(), o.sensors.end(), sensor) == o.sensors.end())
+            continue;
+        for (PathRow& r : path_rows(base, shared, sensor, trajectory, 7, o))
+            report.paths.push_back(std::move(r));
+    }
+}
+
 // LAS write rate to a real file.
 void bench_las_rate(const Job& shared, const Opts& o, BenchReport& report) {
     const std::uint64_t n = o.quick ? 500'000 : 5'000'000;
@@ -230,6 +282,7 @@ void run_bench(const Opts& o) {
     const Job shared = load_shared(base, report);
     bench_throughput(base, shared, o, report);
     bench_detectors(base, shared, o, report);
+    bench_paths(base, shared, o, report);
     if (!o.throughput_only) {  // a partial run writes no report files
         bench_las_rate(shared, o, report);
         bench_errors(base, o.quick, report);

@@ -92,6 +92,25 @@ void check_detectors(const json& r) {
     }
 }
 
+// The path-depth rows: both sensors at depths 1–3; depth 1 traces no continuation, the car's
+// deeper ones some (its drive passes trees, whose crowns pass light on: the quick flight's strip
+// may miss every tree), and no row beats the first-hit ceiling.
+void check_paths(const json& r) {
+    const json& rows = r.at("path_depth");
+    ASSERT_EQ(rows.size(), 6u);
+    for (const json& p : rows) {
+        const int depth = p.at("depth").get<int>();
+        EXPECT_GT(measured(p, "pulses_per_s"), 0.0);
+        EXPECT_LE(measured(p, "to_ceiling"), 1.1) << p.dump();
+        const double segments = p.at("segments_per_pulse").get<double>();
+        if (depth == 1) {
+            EXPECT_EQ(segments, 0.0) << p.dump();
+        } else if (p.at("sensor").get<std::string>() == "vlp16") {
+            EXPECT_GT(segments, 0.0) << p.dump();
+        }
+    }
+}
+
 // One run (a few seconds of rendering) for all checks; a missing key throws, failing the test.
 TEST(Bench, quick_run_reports_figures_that_hold) {
     TempDir tmp;
@@ -104,6 +123,7 @@ TEST(Bench, quick_run_reports_figures_that_hold) {
     check_errors(report);
     check_bvh(report);
     check_detectors(report);
+    check_paths(report);
     EXPECT_NE(read_text(tmp.file("time_vs_error.svg")).find("<circle"), std::string::npos);
     EXPECT_NE(read_text(tmp.file("report.md")).find("| vlp16 | 7 |"), std::string::npos);
 }
