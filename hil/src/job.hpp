@@ -30,6 +30,7 @@ struct JobInputs {
     std::string quality = "medium";  // BVH: low | medium | high
     double visibility_km = 23.0;
     double extinction_per_km = -1;  // overrides visibility when ≥ 0
+    double lidar_ratio_sr = 0;      // > 0: the atmosphere's volume backscatter in waveforms
     double sun_elevation_deg = 45.0;
     double sun_azimuth_deg = 180.0;
     double solar_irradiance = 700.0;  // W/(m²·µm) normal to the sun

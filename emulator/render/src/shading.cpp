@@ -120,6 +120,9 @@ PulseShader::PulseShader(const Setup& setup)
         continues_any_ |= m.continues();
     }
     if (continues_.empty()) continues_.push_back(0);
+    // An echo from the atmosphere: LAS class 18 (high noise), no colour.
+    volume_fields_ = static_cast<std::uint32_t>(point_fields_.size());
+    point_fields_.push_back({0, 0, 0, 18});
     if (brdf_constant_.empty()) brdf_constant_.push_back(0.0);  // read for misses only
     if (point_fields_.empty()) point_fields_.push_back({});
     if (sensor_.detector == sensor::DetectorKind::Linear) {
@@ -136,6 +139,7 @@ PulseShader::PulseShader(const Setup& setup)
                        source + ": detector.sample_rate_gsps");
     }
     check_recording();
+    init_volume();
 }
 
 // Waveforms are recorded from the linear detector's digitiser, at most kMaxWaveformSamples per
@@ -363,7 +367,8 @@ std::size_t PulseShader::write_records(const RayBatch& g, const std::vector<Hit>
     for (std::size_t j = 0; j < scratch.pending.size(); ++j) {
         const PendingReturn& r = pending[j];
         const sensor::PulseSpec& spec = g.specs[r.i];
-        const PointFields& m = point_fields_[hits[r.hit].material];
+        const PointFields& m =
+            point_fields_[r.hit == kVolumeHit ? volume_fields_ : hits[r.hit].material];
         core::PointRecord& pt = pts[kept];
         pt.x = scratch.at[0][j];
         pt.y = scratch.at[1][j];

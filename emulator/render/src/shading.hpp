@@ -59,6 +59,16 @@ struct PathScratch {
     }
 };
 
+// Samples [j0, j1) digitised as one waveform: arrivals [a, b) and, where it overlaps, the
+// atmosphere's volume backscatter (waveform_returns.cpp).
+struct SampleGroup {
+    std::int64_t j0, j1;
+    std::size_t a, b;
+};
+
+// PendingReturn::hit of an echo from the atmosphere itself (no surface).
+inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
+
 // What the waveform detector adds to a point (see core::PointRecord).
 struct EchoFields {
     float amplitude = 0, width_ns = 0, deviation = 0, wave_location_ps = 0;
@@ -101,6 +111,8 @@ struct ShadeScratch {
     std::vector<double> wave, wave_z, counts, pulse_template;
     std::vector<physics::Echo> echoes;
     std::uint32_t next_block = 0;  // the pulse's next Philox block of stream 1
+    std::vector<SampleGroup> groups;
+    std::int64_t wave_first = 0;  // the pulse's first digitised sample
     // Per pending return (linear detector only): amplitude, width, deviation, recorded waveform.
     std::vector<EchoFields> echo_fields;
     // A render recording waveforms (waveform_record.cpp): the pulse's window, NaN where no
@@ -190,6 +202,14 @@ class PulseShader {
     void merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const;
     double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
+    void detect_group(std::uint64_t pulse, const SampleGroup& g, double floor_pe,
+                      std::uint32_t& block, std::size_t& found, ShadeScratch& scratch) const;
+    // volume.cpp: the atmosphere's backscatter in the waveform.
+    void init_volume();
+    void convolve_volume();
+    void sample_groups(ShadeScratch& scratch) const;
+    void add_volume(std::int64_t j0, std::span<double> wave) const;
+    bool in_volume(double time_ns) const;
     void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
                       ShadeScratch& scratch) const;
     void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
@@ -246,6 +266,9 @@ class PulseShader {
     std::vector<double> diffuse_brdf_;       // by material index: ρ_d/π (the sunlit background)
     std::vector<PointFields> point_fields_;  // by material index
     std::vector<std::uint8_t> continues_;    // by material index: transmits or mirrors
+    std::uint32_t volume_fields_ = 0;        // point_fields_ of an echo from the atmosphere
+    std::int64_t volume_first_ = 0;          // first sample of volume_pe_
+    std::vector<double> volume_pe_;          // expected backscatter photo-electrons per sample
     bool continues_any_ = false;
     // The linear-mode detector, when the sensor has one (docs/time-resolved.md §7).
     std::optional<physics::LinearDetector> linear_;

@@ -86,11 +86,14 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
         const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
                                           scratch.paths ? &scratch.path : nullptr);
         out.stats.pulses++;
-        if (arrivals.empty()) {
+        const auto missed = [&] {
             if (close)
                 out.stats.too_close++;
             else
                 out.stats.misses++;
+        };
+        if (arrivals.empty() && volume_pe_.empty()) {
+            missed();
             continue;
         }
         std::sort(arrivals.begin(), arrivals.end(),
@@ -99,13 +102,16 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
         const double floor_pe = floor_pe_per_sample(hits, scratch);
         detect_waveform(g.first + i, floor_pe, scratch);
         if (scratch.echoes.empty()) {
-            out.stats.voids++;  // light arrived, nothing crossed the threshold
+            if (arrivals.empty())
+                missed();  // only the atmosphere, below the threshold
+            else
+                out.stats.voids++;  // light arrived, nothing crossed the threshold
             continue;
         }
         std::uint32_t wave = core::PointRecord::kNoWave;
         if (opt_.waveform_samples > 0)
             wave = record_pulse(g.first + i, floor_pe, scratch, out.samples);
-        add_echoes(i, arrivals, wave, synth_->first_sample(arrivals[0].delay_ps), scratch);
+        add_echoes(i, arrivals, wave, scratch.wave_first, scratch);
     }
 }
 
@@ -113,7 +119,7 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
 // expected in one sample.
 double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const {
     double rate_per_ns = linear_->dark_rate_per_ns();
-    if (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0) {
+    if (!scratch.arrivals.empty() && (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0)) {
         const auto strongest =
             std::max_element(scratch.arrivals.begin(), scratch.arrivals.end(),
                              [](const auto& a, const auto& b) { return a.pe < b.pe; });
@@ -128,45 +134,49 @@ double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScrat
 
 // The pulse's echoes into scratch.echoes, in time order: one waveform per group of arrivals
 // whose pulses overlap (a footprint on two objects far apart costs two short waveforms, not
-// the samples between them).
+// the samples between them), the atmosphere's backscatter in the group it overlaps.
 void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
                                   ShadeScratch& scratch) const {
-    const auto& arrivals = scratch.arrivals;
-    const bool noisy = opt_.noise;
+    sample_groups(scratch);
     std::uint32_t block = 0;  // the pulse's next Philox block of stream 1
-    const std::int64_t wave_first = synth_->first_sample(arrivals[0].delay_ps);
+    scratch.wave_first = scratch.groups.front().j0;
     if (opt_.waveform_samples > 0) scratch.record.assign(opt_.waveform_samples, NAN);
     scratch.echoes.resize(kMaxEchoes);
     std::size_t found = 0;
-    for (std::size_t a = 0; a < arrivals.size() && found < kMaxEchoes;) {
-        const std::int64_t j0 = synth_->first_sample(arrivals[a].delay_ps);
-        std::int64_t j1 = synth_->end_sample(arrivals[a].delay_ps);
-        std::size_t b = a + 1;
-        for (; b < arrivals.size() && synth_->first_sample(arrivals[b].delay_ps) <= j1; ++b)
-            j1 = std::max(j1, synth_->end_sample(arrivals[b].delay_ps));
-        const auto n = static_cast<std::size_t>(j1 - j0);
-        scratch.wave.assign(n, noisy ? floor_pe : 0.0);
-        for (std::size_t k = a; k < b; ++k) synth_->add(arrivals[k], j0, scratch.wave);
-        scratch.counts.resize(n);
-        if (noisy) draw_normals(pulse, n, block, scratch);
-        linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
-                          scratch.counts.data());
-        if (opt_.waveform_samples > 0) record_group(j0, wave_first, scratch);
-        const std::size_t got =
-            linear_->find_echoes(scratch.counts.data(), n, j0, noisy ? floor_pe : 0.0, noisy,
-                                 scratch.echoes.data() + found, kMaxEchoes - found);
-        const double baseline = linear_->params().offset_counts +
-                                (noisy ? linear_->params().gain_counts_per_pe * floor_pe : 0.0);
-        for (std::size_t e = found; e < found + got; ++e) {
-            physics::Echo& echo = scratch.echoes[e];
-            echo.deviation = fit_deviation(echo, j0, baseline, scratch);
-            if (matched_) echo.time_ns = matched_time_ns(echo, j0, baseline, scratch);
-        }
-        found += got;
-        a = b;
+    for (const SampleGroup& g : scratch.groups) {
+        if (found >= kMaxEchoes) break;
+        detect_group(pulse, g, floor_pe, block, found, scratch);
     }
     scratch.echoes.resize(found);
     scratch.next_block = block;
+}
+
+// One group's expected waveform, digitised (noise from Philox block `block` on) and searched for
+// echoes, appended from scratch.echoes[found].
+void PulseShader::detect_group(std::uint64_t pulse, const SampleGroup& g, double floor_pe,
+                               std::uint32_t& block, std::size_t& found,
+                               ShadeScratch& scratch) const {
+    const bool noisy = opt_.noise;
+    const auto n = static_cast<std::size_t>(g.j1 - g.j0);
+    scratch.wave.assign(n, noisy ? floor_pe : 0.0);
+    for (std::size_t k = g.a; k < g.b; ++k) synth_->add(scratch.arrivals[k], g.j0, scratch.wave);
+    if (!volume_pe_.empty()) add_volume(g.j0, scratch.wave);
+    scratch.counts.resize(n);
+    if (noisy) draw_normals(pulse, n, block, scratch);
+    linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
+                      scratch.counts.data());
+    if (opt_.waveform_samples > 0) record_group(g.j0, scratch.wave_first, scratch);
+    const std::size_t got =
+        linear_->find_echoes(scratch.counts.data(), n, g.j0, noisy ? floor_pe : 0.0, noisy,
+                             scratch.echoes.data() + found, kMaxEchoes - found);
+    const double baseline = linear_->params().offset_counts +
+                            (noisy ? linear_->params().gain_counts_per_pe * floor_pe : 0.0);
+    for (std::size_t e = found; e < found + got; ++e) {
+        physics::Echo& echo = scratch.echoes[e];
+        echo.deviation = fit_deviation(echo, g.j0, baseline, scratch);
+        if (matched_) echo.time_ns = matched_time_ns(echo, g.j0, baseline, scratch);
+    }
+    found += got;
 }
 
 // The RMS difference between an echo's samples and its fitted Gaussian on the baseline (counts):
@@ -290,7 +300,10 @@ void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival
                 near = a.hit;
             }
         }
-        const std::uint32_t hit = best >= 0 ? strong : near;
+        // An echo with no surface within 2σ_p in the atmosphere's backscatter (or with no
+        // surface at all) is the atmosphere's own.
+        const bool volume = best < 0 && (arrivals.empty() || in_volume(t_ns));
+        const std::uint32_t hit = volume ? kVolumeHit : best >= 0 ? strong : near;
         scratch.pending.push_back({t_ns * kMetersPerNsOneWay, e.pe / e_per_w, i, hit, k++});
         scratch.echo_fields.push_back(echo_fields(e, wave, wave_first));
     }

@@ -52,6 +52,9 @@ struct Environment {
     Atmosphere atmosphere;
     Sun sun;
     double path_radiance_w_m2_sr_um = 0.0;  // L_path of eq. 9, W/(m²·sr·µm)
+    // Volume backscatter in waveforms (docs/time-resolved.md §6): β = α/S with this lidar ratio
+    // S (sr); 0: none.
+    double lidar_ratio_sr = 0.0;
 };
 
 // Monostatic BRDF value (sr⁻¹) of a material seen from the source direction at incidence

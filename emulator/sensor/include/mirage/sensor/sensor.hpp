@@ -55,6 +55,9 @@ struct ReceiverParams {
     // first hit only), and the path weight below which it goes on only by Russian roulette.
     int max_path_depth = 4;
     double path_energy_threshold = 1e-3;
+    // Transmitter–receiver overlap O(R) = 1 − exp(−(R/R_o)²) with this R_o (0: full overlap
+    // everywhere); weighs the atmosphere's volume backscatter (docs/time-resolved.md §6).
+    double overlap_range_m = 0.0;
 };
 
 // Measurement noise (docs/physics.md eqs. (14)–(15)).
