@@ -131,6 +131,11 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
         ->capture_default_str();
     app.add_option("--extinction-per-km", in.extinction_per_km,
                    "Extinction coefficient α, overrides visibility");
+    app.add_option("--extinction-scale-height-km", in.scale_height_km,
+                   "Extinction falls as exp(−z/H) above the scene's z = 0, where visibility or "
+                   "--extinction-per-km give it (aerosols ~1.2, molecules ~8); 0: homogeneous")
+        ->check(CLI::Range(0.0, 1e3))
+        ->capture_default_str();
     app.add_option("--lidar-ratio", in.lidar_ratio_sr,
                    "Extinction-to-backscatter ratio S (sr) of the air: > 0 puts its volume "
                    "backscatter β = α/S into waveforms (fog ~20, haze ~50; linear detector)")
@@ -245,6 +250,7 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
                                   : physics::Atmosphere::extinction_from_visibility(
                                         in.visibility_km * 1000.0, job.sensor.beam.wavelength_m);
     job.env.lidar_ratio_sr = in.lidar_ratio_sr;
+    job.env.atmosphere.scale_height_m = in.scale_height_km * 1e3;
     job.env.sun.elevation_rad = in.sun_elevation_deg * kDeg;
     job.env.sun.azimuth_rad = in.sun_azimuth_deg * kDeg;
     job.env.sun.irradiance_w_m2_um = in.solar_irradiance;

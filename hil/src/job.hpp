@@ -31,6 +31,7 @@ struct JobInputs {
     double visibility_km = 23.0;
     double extinction_per_km = -1;  // overrides visibility when ≥ 0
     double lidar_ratio_sr = 0;      // > 0: the atmosphere's volume backscatter in waveforms
+    double scale_height_km = 0;     // > 0: α(z) = α·exp(−z/H) above the scene's z = 0
     double sun_elevation_deg = 45.0;
     double sun_azimuth_deg = 180.0;
     double solar_irradiance = 700.0;  // W/(m²·µm) normal to the sun

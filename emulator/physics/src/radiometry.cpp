@@ -52,6 +52,7 @@ Radiometry::Radiometry(const sensor::BeamParams& beam, const sensor::ReceiverPar
     require_non_negative("receiver.threshold_gamma", rx.threshold_gamma);
     require_non_negative("environment.atmosphere.extinction_per_m",
                          env.atmosphere.extinction_per_m);
+    require_non_negative("environment.atmosphere.scale_height_m", env.atmosphere.scale_height_m);
     require_non_negative("environment.path_radiance_w_m2_sr_um", env.path_radiance_w_m2_sr_um);
 
     constexpr double pi = std::numbers::pi;
@@ -101,9 +102,8 @@ double Radiometry::closed_form_lambertian_w(double range_m, double reflectance,
     const double tau = env_.atmosphere.one_way(range_m);
     const double fill = std::min(1.0, omega_pix_ / omega_spot_);
     return peak_power_w_ * filter_pass_ * rx_.eta_transmitter * rx_.eta_receiver * tau * tau *
-           reflectance *
-           std::min(cos_incidence, 1.0) * aperture_m2_ / (std::numbers::pi * range_m * range_m) *
-           fill;
+           reflectance * std::min(cos_incidence, 1.0) * aperture_m2_ /
+           (std::numbers::pi * range_m * range_m) * fill;
 }
 
 void Radiometry::background_electrons_many(const double* __restrict brdf_diffuse,

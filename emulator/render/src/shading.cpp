@@ -183,7 +183,7 @@ void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
         clustered_returns(g, all, rays, terms, k, scratch, out.stats);
     out.stats.rays += hits.size();
     draw(g.first, scratch);
-    electrons(scratch);
+    electrons(g, scratch);
     detect(all, scratch);
     positions(g, scratch);
     emit_points(g, all, scratch, out);
@@ -200,19 +200,36 @@ void PulseShader::ray_terms(const RayBatch& g, const std::vector<Hit>& hits,
 void PulseShader::ray_terms(const Ray* rays, const std::vector<Hit>& hits,
                             ShadeScratch& scratch) const {
     scratch.ray_terms.resize(hits.size());
+    const bool profile = env_.atmosphere.scale_height_m > 0.0;
     render::ray_terms(rays, hits.data(), brdf_constant_.data(),
                       static_cast<std::uint32_t>(brdf_constant_.size() - 1),
                       sensor_.receiver.min_range_m, sensor_.receiver.max_range_m,
-                      2.0 * env_.atmosphere.extinction_per_m, hits.size(),
+                      profile ? 0.0 : 2.0 * env_.atmosphere.extinction_per_m, hits.size(),
                       scratch.ray_terms.data());
+    if (profile) slant_transmission(rays, hits, scratch);
     if (!scratch.paths) return;
     for (std::size_t e = 0; e < hits.size(); ++e) scratch.ray_terms[e] *= scratch.path.weight[e];
+}
+
+// An extinction profile: each term times the two-way transmittance of its path, from the ray's
+// origin to its hit in a straight line (a mirrored path: its last segment's mean α over the whole
+// length).
+void PulseShader::slant_transmission(const Ray* rays, const std::vector<Hit>& hits,
+                                     ShadeScratch& scratch) const {
+    for (std::size_t e = 0; e < hits.size(); ++e) {
+        double& term = scratch.ray_terms[e];
+        if (term == 0.0) continue;
+        const double base = scratch.paths ? scratch.path.base[e] : 0.0;
+        const Ray& r = rays[e];
+        const double z1 = r.oz + (hits[e].t - base) * r.dz;
+        term *= std::exp(-2.0 * env_.atmosphere.optical_depth(r.oz, z1, hits[e].t));
+    }
 }
 
 // Photo-electrons, intensity and (for the background) one-way transmission of every pending
 // return, in loops that vectorise (a logarithm or exponential per point was a library call);
 // voids among them are computed and unused.
-void PulseShader::electrons(ShadeScratch& scratch) const {
+void PulseShader::electrons(const RayBatch& g, ShadeScratch& scratch) const {
     const std::size_t np = scratch.pending.size();
     scratch.n_laser.resize(np);
     scratch.intensity.resize(np);
@@ -223,6 +240,13 @@ void PulseShader::electrons(ShadeScratch& scratch) const {
         scratch.tau1.resize(np);
         for (std::size_t j = 0; j < np; ++j)
             scratch.tau1[j] = core::exp_poly(-alpha * scratch.pending[j].range_m);
+        if (env_.atmosphere.scale_height_m > 0.0)
+            for (std::size_t j = 0; j < np; ++j) {
+                const std::uint32_t i = scratch.pending[j].i;
+                const double r = scratch.pending[j].range_m, z0 = g.origin[2][i];
+                scratch.tau1[j] =
+                    std::exp(-env_.atmosphere.optical_depth(z0, z0 + r * g.direction[2][i], r));
+            }
     }
     opt_.intensity.to_u16_many(scratch.n_laser.data(), np, scratch.intensity.data());
 }

@@ -234,7 +234,9 @@ class PulseShader {
                                std::vector<std::uint32_t>& samples) const;
 
     // shading.cpp: pending returns -> points.
-    void electrons(ShadeScratch& scratch) const;
+    void electrons(const RayBatch& g, ShadeScratch& scratch) const;
+    void slant_transmission(const Ray* rays, const std::vector<Hit>& hits,
+                            ShadeScratch& scratch) const;
     void draw(std::uint64_t first, ShadeScratch& scratch) const;
     void detect(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void positions(const RayBatch& g, ShadeScratch& scratch) const;

@@ -23,6 +23,10 @@ void PulseShader::init_volume() {
     const double s = env_.lidar_ratio_sr;
     const double alpha = env_.atmosphere.extinction_per_m;
     if (!(s > 0.0)) return;
+    if (env_.atmosphere.scale_height_m > 0.0)
+        throw mirage::ConfigError("sensor '" + sensor_.name +
+                                  "': the volume backscatter (a lidar ratio) is modelled for "
+                                  "homogeneous air, not an extinction profile (scale height)");
     if (!linear_)
         throw mirage::ConfigError("sensor '" + sensor_.name +
                                   "': the atmosphere's volume backscatter (a lidar ratio) needs "

@@ -118,6 +118,60 @@ TEST(PipelineFog, dense_fog_gives_near_range_clutter_and_a_weakened_target) {
     EXPECT_NEAR(ratio / std::exp(-2 * alpha * r_wall), 1.0, 0.02);
 }
 
+// An airborne sensor 1500 m above a plane, through air whose extinction falls as exp(−z/H)
+// (α0 = 2e-4 /m at the ground, H = 1200 m): at zenith angle θ each return keeps
+// exp(−2·α0·H·(1 − e^(−1500/H))/cos θ) of its energy in clear air, both detectors.
+TEST(PipelineFog, slant_path_transmittance_through_an_exponential_profile) {
+    const double alpha0 = 2e-4, h = 1200, height = 1500;
+    scene::Scene ground;
+    scene::Material m;
+    m.reflectance = 0.3;
+    ground.add_material(m);
+    ground.add_mesh(quad(6000.0, Eigen::Affine3d::Identity()));
+    render::EmbreeRenderer r(ground);
+    const double zenith[] = {0.0, 30.0, 60.0};
+    std::vector<Eigen::Vector3f> dirs;
+    for (const double z : zenith) {
+        const double t = z * std::numbers::pi / 180;
+        dirs.push_back(Eigen::Vector3d(std::sin(t), 0, -std::cos(t)).cast<float>());
+    }
+    for (const auto kind : {sensor::DetectorKind::Discrete, sensor::DetectorKind::Linear}) {
+        auto sensor = test_sensor(std::make_shared<FanPattern>(dirs, 1000));
+        sensor.beam.pulse_width_s = 4e-9;
+        sensor.beam.pulse_energy_j = 1e-4;  // the 60° echo well above the digitiser's threshold
+        sensor.receiver.max_range_m = 5000;
+        sensor.detector = kind;
+        sensor.linear.bits = 32;
+        const core::Trajectory at = core::Trajectory::fixed(
+            core::Pose{Eigen::Vector3d(0, 0, height), Eigen::Quaterniond::Identity()});
+        std::vector<core::PointRecord> got[2];
+        for (int k = 0; k < 2; ++k) {
+            physics::Environment env;
+            env.atmosphere.extinction_per_m = k ? alpha0 : 0.0;
+            env.atmosphere.scale_height_m = h;
+            render::RenderOptions o;
+            o.noise = false;
+            o.threads = 1;
+            o.duration = core::Nanos(3000);
+            VectorSink sink;
+            render::render({ground, r, sensor, at, {}, env, o}, sink);
+            got[k] = sink.points;
+        }
+        ASSERT_EQ(got[0].size(), 3u);
+        ASSERT_EQ(got[1].size(), 3u);
+        double worst = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double cos_t = std::cos(zenith[k] * std::numbers::pi / 180);
+            const double od = alpha0 * h * (1 - std::exp(-height / h)) / cos_t;
+            const double ratio = got[1][k].n_laser / got[0][k].n_laser;
+            worst = std::max(worst, std::abs(ratio / std::exp(-2 * od) - 1));
+        }
+        std::printf("%s: slant two-way transmittance worst %.4f %% from the closed form\n",
+                    kind == sensor::DetectorKind::Linear ? "waveform" : "discrete", 100 * worst);
+        EXPECT_LT(worst, 0.005);
+    }
+}
+
 TEST(PipelineFog, a_lidar_ratio_needs_the_waveform_detector) {
     auto sensor = fog_sensor();
     sensor.detector = sensor::DetectorKind::Discrete;

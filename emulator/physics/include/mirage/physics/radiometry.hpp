@@ -23,7 +23,10 @@ double photon_energy_j(double wavelength_m);
 
 // Beer–Lambert atmosphere with a constant extinction coefficient α (m⁻¹).
 struct Atmosphere {
-    double extinction_per_m = 0.0;
+    double extinction_per_m = 0.0;  // α at the scene's local z = 0
+    // Exponential profile α(z) = α·exp(−z/H) with this H (docs/time-resolved.md §6); 0: the
+    // same α everywhere.
+    double scale_height_m = 0.0;
     // Kim/Kruse visibility model (docs/physics.md §3.2): α = (3.91/V)·(λ/0.55 µm)^(−q) with V in
     // km, λ in µm, q = 1.6 (V > 50 km), 1.3 (6–50 km), 0.585·V^(1/3) (< 6 km). Returns m⁻¹. Inputs
     // are SI (m) and converted here, the one boundary. Test vector: 1064 nm, 23 km → 0.0721 km⁻¹
@@ -33,6 +36,14 @@ struct Atmosphere {
     double one_way(double range_m) const {
         return std::exp(-extinction_per_m * range_m);
     }  // τ(R) = exp(−αR); monostatic two-way is τ(R)²
+    // ∫α ds along a straight path of `length` from height z0 to z1 (local z): α·L for
+    // homogeneous air, else α·L·e^(−z0/H)·(1 − e^(−Δ/H))/(Δ/H), Δ = z1 − z0 (→ α(z0)·L as Δ → 0).
+    double optical_depth(double z0, double z1, double length) const {
+        if (!(scale_height_m > 0.0)) return extinction_per_m * length;
+        const double x = (z1 - z0) / scale_height_m;
+        const double mean = std::abs(x) < 1e-9 ? 1.0 : -std::expm1(-x) / x;
+        return extinction_per_m * length * std::exp(-z0 / scale_height_m) * mean;
+    }
 };
 
 // Sun as the "other" source of docs/physics.md eqs. (6)–(10).
