@@ -193,6 +193,7 @@ std::vector<KeyCase> cases() {
          kVlp16 + "beam: {sub_rays: 7, profile: tophat}\n"},
         {"beam.sub_rays", "", "", kVlp16, kVlp16 + "beam: {sub_rays: 7}\n"},
         {"beam.pulse_shape", "", "", kLinear, kLinear + "beam: {pulse_shape: pulse.txt}\n"},
+        {"beam.energy_sigma", "", "", kVlp16, kVlp16 + "beam: {energy_sigma: 0.2}\n"},
         {"beam.footprint_radius", "", "", kVlp16 + "beam: {sub_rays: 7}\n",
          kVlp16 + "beam: {sub_rays: 7, footprint_radius: 2}\n"},
         {"detector.type", "", "", kVlp16, kLinear},

@@ -156,6 +156,26 @@ void PulseShader::check_recording() const {
                                   std::to_string(kMaxWaveformSamples) + ")");
 }
 
+// One Philox normal of the pulse's stream 3, so the energy does not depend on what else the
+// pulse draws. Applies with or without detector noise: it is the laser's, not the detector's.
+double PulseShader::energy_factor(std::uint64_t pulse) const {
+    const double sigma = sensor_.beam.energy_sigma;
+    if (!(sigma > 0.0)) return 1.0;
+    core::PulseRng rng(opt_.seed, pulse, kEnergyStream);
+    return std::max(0.0, 1.0 + sigma * rng.normal());
+}
+
+// The discrete detector's pending returns scaled by their pulse's energy factor.
+void PulseShader::vary_energy(std::uint64_t first, ShadeScratch& scratch) const {
+    if (!(sensor_.beam.energy_sigma > 0.0)) return;
+    std::uint32_t last = 0xFFFFFFFFu;
+    double f = 1.0;
+    for (PendingReturn& p : scratch.pending) {
+        if (p.i != last) f = energy_factor(first + (last = p.i));
+        p.power_w *= f;
+    }
+}
+
 std::vector<double> PulseShader::weighted_k(const std::vector<sensor::SubRay>& subrays) const {
     std::vector<double> k(subrays.size());
     for (std::size_t s = 0; s < subrays.size(); ++s) k[s] = subrays[s].weight * power_k_;
@@ -182,6 +202,7 @@ void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
     else
         clustered_returns(g, all, rays, terms, k, scratch, out.stats);
     out.stats.rays += hits.size();
+    if (!linear_) vary_energy(g.first, scratch);  // the waveform detector's: per arrival
     draw(g.first, scratch);
     electrons(g, scratch);
     detect(all, scratch);

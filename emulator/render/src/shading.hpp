@@ -66,6 +66,10 @@ struct SampleGroup {
     std::size_t a, b;
 };
 
+// Philox stream of each pulse's energy factor (0: discrete returns, 1: waveform noise, 2: the
+// paths' roulette).
+inline constexpr std::uint32_t kEnergyStream = 3;
+
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
 inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
 
@@ -113,6 +117,7 @@ struct ShadeScratch {
     std::uint32_t next_block = 0;  // the pulse's next Philox block of stream 1
     std::vector<SampleGroup> groups;
     std::int64_t wave_first = 0;  // the pulse's first digitised sample
+    double energy = 1.0;          // the pulse's energy factor (beam.energy_sigma)
     // Per pending return (linear detector only): amplitude, width, deviation, recorded waveform.
     std::vector<EchoFields> echo_fields;
     // A render recording waveforms (waveform_record.cpp): the pulse's window, NaN where no
@@ -208,7 +213,7 @@ class PulseShader {
     void init_volume();
     void convolve_volume();
     void sample_groups(ShadeScratch& scratch) const;
-    void add_volume(std::int64_t j0, std::span<double> wave) const;
+    void add_volume(std::int64_t j0, std::span<double> wave, double scale) const;
     bool in_volume(double time_ns) const;
     void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
                       ShadeScratch& scratch) const;
@@ -221,6 +226,9 @@ class PulseShader {
     double fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
                          const ShadeScratch& scratch) const;
     void check_recording() const;
+    // The pulse's energy relative to the sensor's (beam.energy_sigma; 1 when it is 0).
+    double energy_factor(std::uint64_t pulse) const;
+    void vary_energy(std::uint64_t first, ShadeScratch& scratch) const;
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
     void start_paths(const RayBatch& g, const std::vector<Hit>& hits, PathScratch& p) const;

@@ -101,12 +101,14 @@ void PulseShader::sample_groups(ShadeScratch& scratch) const {
     if (volume) groups.push_back({v0, v1, arr.size(), arr.size()});
 }
 
-// wave[j − j0] += the volume's photo-electrons in sample j, where the two overlap.
-void PulseShader::add_volume(std::int64_t j0, std::span<double> wave) const {
+// wave[j − j0] += the volume's photo-electrons in sample j (times the pulse's energy factor),
+// where the two overlap.
+void PulseShader::add_volume(std::int64_t j0, std::span<double> wave, double scale) const {
     const std::int64_t v0 = volume_first_, v1 = v0 + std::int64_t(volume_pe_.size());
     const std::int64_t lo = std::max(j0, v0), hi = std::min(j0 + std::int64_t(wave.size()), v1);
     for (std::int64_t j = lo; j < hi; ++j)
-        wave[static_cast<std::size_t>(j - j0)] += volume_pe_[static_cast<std::size_t>(j - v0)];
+        wave[static_cast<std::size_t>(j - j0)] +=
+            scale * volume_pe_[static_cast<std::size_t>(j - v0)];
 }
 
 bool PulseShader::in_volume(double time_ns) const {

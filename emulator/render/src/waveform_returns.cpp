@@ -99,6 +99,9 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
         std::sort(arrivals.begin(), arrivals.end(),
                   [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
         merge_close_arrivals(arrivals);
+        scratch.energy = energy_factor(g.first + i);
+        if (scratch.energy != 1.0)
+            for (auto& a : arrivals) a.pe = static_cast<float>(a.pe * scratch.energy);
         const double floor_pe = floor_pe_per_sample(hits, scratch);
         detect_waveform(g.first + i, floor_pe, scratch);
         if (scratch.echoes.empty()) {
@@ -160,7 +163,7 @@ void PulseShader::detect_group(std::uint64_t pulse, const SampleGroup& g, double
     const auto n = static_cast<std::size_t>(g.j1 - g.j0);
     scratch.wave.assign(n, noisy ? floor_pe : 0.0);
     for (std::size_t k = g.a; k < g.b; ++k) synth_->add(scratch.arrivals[k], g.j0, scratch.wave);
-    if (!volume_pe_.empty()) add_volume(g.j0, scratch.wave);
+    if (!volume_pe_.empty()) add_volume(g.j0, scratch.wave, scratch.energy);
     scratch.counts.resize(n);
     if (noisy) draw_normals(pulse, n, block, scratch);
     linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,

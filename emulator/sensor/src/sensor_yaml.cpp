@@ -151,9 +151,10 @@ void read_pulse_shape(const Reader& r, const YAML::Node& n, BeamParams& b) {
 }
 
 void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
-    r.only_keys(n, "beam",
-                {"wavelength_nm", "pulse_energy_uj", "pulse_width_ns", "divergence_mrad", "profile",
-                 "sub_rays", "laser_bandwidth_nm", "footprint_radius", "pulse_shape"});
+    r.only_keys(
+        n, "beam",
+        {"wavelength_nm", "pulse_energy_uj", "pulse_width_ns", "divergence_mrad", "profile",
+         "sub_rays", "laser_bandwidth_nm", "footprint_radius", "pulse_shape", "energy_sigma"});
     if (n["wavelength_nm"])
         b.wavelength_m = 1e-9 * r.number(n["wavelength_nm"], "beam.wavelength_nm", 200, 12000);
     if (n["pulse_energy_uj"])
@@ -177,6 +178,8 @@ void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
         }
     }
     if (n["pulse_shape"]) read_pulse_shape(r, n, b);
+    if (n["energy_sigma"])
+        b.energy_sigma = r.number(n["energy_sigma"], "beam.energy_sigma", 0, 1, false);
     if (n["footprint_radius"]) {
         b.footprint_radius = r.number(n["footprint_radius"], "beam.footprint_radius", 0, 3, true);
         if (b.profile == BeamProfile::TopHat && b.footprint_radius != 1.0)

@@ -24,6 +24,9 @@ struct BeamParams {
     // Radius the sub-rays reach, in 1/e² radii (Gaussian profile only): 1 drops the 13.5 % of
     // the energy outside it, 2 keeps all but 0.03 % (docs/physics.md §3.5).
     double footprint_radius = 1.0;
+    // Pulse-to-pulse energy variation: each pulse fires E·max(0, 1 + σ·z), z standard normal
+    // drawn per pulse (docs/time-resolved.md §6); 0: every pulse the same.
+    double energy_sigma = 0.0;
     // The pulse in time (docs/time-resolved.md §4): a Gaussian whose FWHM is pulse_width_s, or
     // this measured shape (time ns, relative power; pulse_width_s is then its FWHM).
     std::vector<double> pulse_t_ns, pulse_power;
