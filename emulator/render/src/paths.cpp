@@ -21,83 +21,81 @@ constexpr float kStep_m = 1e-3f;              // past the surface just left
 bool PulseShader::any_continuing(const std::vector<Hit>& hits) const {
     if (!continues_any_ || sensor_.receiver.max_path_depth < 2) return false;
     const auto last = static_cast<std::uint32_t>(continues_.size() - 1);
-    bool any = false;
-    for (const Hit& h : hits) any |= h.hit() & (continues_[std::min(h.material, last)] != 0);
-    return any;
+    for (const Hit& h : hits)
+        if (h.hit() && continues_[std::min(h.material, last)] != 0) return true;
+    return false;
 }
 
-// The batch's own rays and hits as the paths' first round.
-void PulseShader::start_paths(const RayBatch& g, const std::vector<Hit>& hits,
-                              PathScratch& p) const {
-    const std::size_t n = hits.size();
-    p.rays = g.rays;
-    p.hits = hits;
-    p.weight.assign(n, 1.0);
-    p.base.assign(n, 0.0);
-    p.sub.resize(n);
-    p.code.resize(n);
-    p.pulse.resize(n);
-    const auto subs = static_cast<std::uint32_t>(n / std::max<std::size_t>(1, g.specs.size()));
-    for (std::uint32_t i = 0; i < g.specs.size(); ++i)
-        for (std::uint32_t s = 0; s < subs; ++s) {
-            const std::uint32_t r = g.first_ray[i] + s;
-            p.sub[r] = p.code[r] = s;
-            p.pulse[r] = i;
-        }
+// A hit within the receiver's range on a surface that transmits or mirrors.
+bool PulseShader::continues(const Hit& h) const {
+    return h.hit() && h.t <= sensor_.receiver.max_range_m && continues_[h.material] != 0;
 }
 
-bool PulseShader::trace_paths(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& s,
+// Round 1 is the batch's own trace; its continuing hits, found pulse by pulse, start round 2.
+// Each traced round's continuing hits start the next, until a path has met max_path_depth
+// surfaces (then it is cut and counted).
+bool PulseShader::trace_paths(const RayBatch& g, std::vector<Hit>& hits, ShadeScratch& s,
                               RenderStats& stats) const {
     if (!any_continuing(hits)) return false;
     PathScratch& p = s.path;
-    start_paths(g, hits, p);
-    std::size_t from = 0, to = hits.size();
-    for (int depth = 2; from < to; ++depth) {
-        const bool last = depth > sensor_.receiver.max_path_depth;
-        p.round_rays.clear();
-        const std::size_t parent0 = to;
-        for (std::size_t e = from; e < to; ++e) {
-            const Hit& h = p.hits[e];
-            if (!h.hit() || h.t > sensor_.receiver.max_range_m || !continues_[h.material]) continue;
-            if (last) {
+    p.start(hits.size());
+    const auto subs =
+        static_cast<std::uint32_t>(hits.size() / std::max<std::size_t>(1, g.specs.size()));
+    for (std::uint32_t i = 0; i < g.specs.size(); ++i)
+        for (std::uint32_t sub = 0; sub < subs; ++sub) {
+            const std::uint32_t e = g.first_ray[i] + sub;
+            if (continues(hits[e]))
+                spawn(g.first, {g.rays[e], hits[e], 1.0, 0.0, sub, sub, i}, p, stats);
+        }
+    for (int depth = 2; trace_round(p, hits, stats); ++depth) {
+        const std::size_t to = p.rays.size(), from = to - p.round_hits.size();
+        for (std::size_t k = from; k < to; ++k) {
+            const Hit& h = hits[p.own + k];
+            if (!continues(h)) continue;
+            if (depth >= sensor_.receiver.max_path_depth) {
                 stats.paths_cut++;
                 continue;
             }
-            spawn(g.first, e, p, stats);
+            spawn(g.first, {p.rays[k], h, p.weight[k], p.base[k], p.sub[k], p.code[k], p.pulse[k]},
+                  p, stats);
         }
-        if (p.round_rays.empty()) break;
-        p.round_hits.assign(p.round_rays.size(), Hit{});
-        renderer_.intersect(p.round_rays, p.round_hits);
-        stats.path_segments += p.round_rays.size();
-        for (std::size_t k = 0; k < p.round_rays.size(); ++k) {
-            Hit h = p.round_hits[k];
-            if (h.hit()) h.t = static_cast<float>(p.base[parent0 + k] + h.t);
-            p.rays.push_back(p.round_rays[k]);
-            p.hits.push_back(h);
-        }
-        from = to;
-        to = p.hits.size();
     }
-    index_by_pulse(g.specs.size(), hits.size(), p);
+    index_by_pulse(g.specs.size(), p);
     return true;
 }
 
-// Entry e's continuations into the round: transmitted (same ray, beyond the surface) and
-// mirrored (from the hit, reflected), each with its weight, base and code appended to `p`.
-void PulseShader::spawn(std::uint64_t first_pulse, std::size_t e, PathScratch& p,
+// Traces the round's rays: their hits (whole path lengths) appended to `hits`, their rays to the
+// continuations'. False when the round is empty.
+bool PulseShader::trace_round(PathScratch& p, std::vector<Hit>& hits, RenderStats& stats) const {
+    if (p.round_rays.empty()) return false;
+    p.round_hits.assign(p.round_rays.size(), Hit{});
+    renderer_.intersect(p.round_rays, p.round_hits);
+    stats.path_segments += p.round_rays.size();
+    const std::size_t k0 = p.rays.size();
+    for (std::size_t k = 0; k < p.round_rays.size(); ++k) {
+        Hit h = p.round_hits[k];
+        if (h.hit()) h.t = static_cast<float>(p.base[k0 + k] + h.t);
+        p.rays.push_back(p.round_rays[k]);
+        hits.push_back(h);
+    }
+    p.round_rays.clear();
+    return true;
+}
+
+// A parent's continuations into the round: transmitted (same ray, beyond the surface) and
+// mirrored (from the hit, reflected), each with its weight, base, sub-ray, code and pulse.
+void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScratch& p,
                         RenderStats& stats) const {
-    const Hit h = p.hits[e];
-    const Ray ray = p.rays[e];
+    const Hit& h = q.hit;
+    const Ray& ray = q.ray;
     const scene::Material& m = scene_.materials[h.material];
-    const double seg = h.t - p.base[e];  // along this entry's own ray
-    const double weight = p.weight[e];
-    const std::uint32_t sub = p.sub[e], pulse = p.pulse[e], parent_code = p.code[e];
+    const double seg = h.t - q.base;  // along the parent's own ray
     const auto add = [&](const Ray& r, double fraction, double base, std::uint32_t kind) {
-        double w = weight * fraction * fraction;
-        const std::uint32_t code = parent_code * 3u + kind;
+        double w = q.weight * fraction * fraction;
+        const std::uint32_t code = q.code * 3u + kind;
         const double threshold = sensor_.receiver.path_energy_threshold;
         if (w < threshold) {
-            core::PulseRng rng(opt_.seed ^ code, first_pulse + pulse, kRouletteStream);
+            core::PulseRng rng(opt_.seed ^ code, first_pulse + q.pulse, kRouletteStream);
             if (rng.uniform() * threshold >= w) {
                 stats.paths_cut++;
                 return;
@@ -107,14 +105,14 @@ void PulseShader::spawn(std::uint64_t first_pulse, std::size_t e, PathScratch& p
         p.round_rays.push_back(r);
         p.weight.push_back(w);
         p.base.push_back(base);
-        p.sub.push_back(sub);
+        p.sub.push_back(q.sub);
         p.code.push_back(code);
-        p.pulse.push_back(pulse);
+        p.pulse.push_back(q.pulse);
     };
     if (m.transmission > 0.0) {
         Ray t = ray;
         t.tnear = static_cast<float>(seg) + kStep_m;
-        add(t, m.transmission, p.base[e], 1);
+        add(t, m.transmission, q.base, 1);
     }
     if (m.mirror > 0.0) {
         const float dn = ray.dx * h.nx + ray.dy * h.ny + ray.dz * h.nz;
@@ -131,19 +129,20 @@ void PulseShader::spawn(std::uint64_t first_pulse, std::size_t e, PathScratch& p
     }
 }
 
-// The continuations of each pulse, in the order they were made (a counting sort by pulse).
-void PulseShader::index_by_pulse(std::size_t pulses, std::size_t own, PathScratch& p) const {
+// The continuations of each pulse as entries, in the order they were made (a counting sort).
+void PulseShader::index_by_pulse(std::size_t pulses, PathScratch& p) const {
+    const std::size_t m = p.rays.size();
     p.first.assign(pulses + 1, 0);
-    for (std::size_t e = own; e < p.hits.size(); ++e) p.first[p.pulse[e] + 1]++;
+    for (std::size_t k = 0; k < m; ++k) p.first[p.pulse[k] + 1]++;
     p.most = 0;
     for (std::size_t i = 0; i < pulses; ++i) {
         p.most = std::max<std::size_t>(p.most, p.first[i + 1]);
         p.first[i + 1] += p.first[i];
     }
-    p.order.resize(p.hits.size() - own);
+    p.order.resize(m);
     std::vector<std::uint32_t> at(p.first.begin(), p.first.end() - 1);
-    for (std::size_t e = own; e < p.hits.size(); ++e)
-        p.order[at[p.pulse[e]]++] = static_cast<std::uint32_t>(e);
+    for (std::size_t k = 0; k < m; ++k)
+        p.order[at[p.pulse[k]]++] = static_cast<std::uint32_t>(p.own + k);
 }
 
 }  // namespace mirage::render

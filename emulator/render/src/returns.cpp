@@ -61,7 +61,7 @@ void PulseShader::single_returns(const RayBatch& g, const std::vector<Hit>& hits
 // Several sub-rays per pulse: their hits merge into returns (split_returns when they spread over
 // more than c·τ/2).
 void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& hits,
-                                    const Ray* rays, const double* terms,
+                                    const RayView& rays, const double* terms,
                                     const std::vector<double>& weighted_k, ShadeScratch& scratch,
                                     RenderStats& stats) const {
     const std::size_t n = g.specs.size();
@@ -70,8 +70,8 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
     Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, count)
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t r = g.first_ray[i];
-        const PulseHits ph = gather_hits(&hits[r], &rays[r], terms + r, weighted_k, buffer, paths,
-                                         r, static_cast<std::uint32_t>(i));
+        const PulseHits ph = gather_hits(&hits[r], rays, terms + r, weighted_k, buffer, paths, r,
+                                         static_cast<std::uint32_t>(i));
         stats.pulses++;
         if (ph.count == 0) {
             if (ph.any_close)
@@ -90,7 +90,7 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
             add_returns(ii, r, std::span<const Return>(&one, 1), scratch);
             continue;
         }
-        set_patch_depths(&hits[r], &rays[r], contrib);
+        set_patch_depths(&hits[r], rays, r, contrib);
         split_returns(ii, r, contrib, scratch);
     }
 }
@@ -98,7 +98,8 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
 // A pulse's sub-ray hits within the receiver's ranges into `buffer`, with the one-return
 // aggregates accumulated on the way (in sub-ray order, as a split into several returns would sum
 // them): range span, power-weighted range, power, and the strongest sub-ray (the first of equals).
-PulseShader::PulseHits PulseShader::gather_hits(const Hit* h, const Ray* ray, const double* term,
+PulseShader::PulseHits PulseShader::gather_hits(const Hit* h, const RayView& rays,
+                                                const double* term,
                                                 const std::vector<double>& weighted_k,
                                                 Contribution* buffer, const PathScratch* paths,
                                                 std::uint32_t r, std::uint32_t i) const {
@@ -118,7 +119,7 @@ PulseShader::PulseHits PulseShader::gather_hits(const Hit* h, const Ray* ray, co
         if (range > rx.max_range_m) return;
         double t = term[q];
         if (t < 0.0) {  // a specular lobe: the BRDF depends on incidence
-            const double cos_inc = incidence(ray[q], h[q]);
+            const double cos_inc = incidence(rays[r + q], h[q]);
             t = -t * physics::monostatic_brdf(scene_.materials[h[q].material], cos_inc);
         }
         const double p = k * t;
@@ -138,15 +139,16 @@ PulseShader::PulseHits PulseShader::gather_hits(const Hit* h, const Ray* ray, co
     for (std::size_t s = 0; s < weighted_k.size(); ++s)
         take(static_cast<std::uint32_t>(s), weighted_k[s]);
     if (paths)
-        for (const std::uint32_t e : paths->of_pulse(i)) take(e - r, weighted_k[paths->sub[e]]);
+        for (const std::uint32_t e : paths->of_pulse(i))
+            take(e - r, weighted_k[paths->sub[e - paths->own]]);
     return out;
 }
 
 // Each hit's patch depth, R·Δ·tan θ (cos θ floored at 0.01: at most 100·R·Δ).
-void PulseShader::set_patch_depths(const Hit* h, const Ray* ray,
+void PulseShader::set_patch_depths(const Hit* h, const RayView& rays, std::uint32_t r,
                                    std::span<Contribution> contrib) const {
     for (Contribution& b : contrib) {
-        const double cos_inc = std::max(0.01, incidence(ray[b.sub], h[b.sub]));
+        const double cos_inc = std::max(0.01, incidence(rays[r + b.sub], h[b.sub]));
         const double tan_inc = std::sqrt(std::max(0.0, 1.0 - cos_inc * cos_inc)) / cos_inc;
         b.half_depth_m = 0.5 * b.range_m * cell_rad_ * tan_inc;
     }

@@ -182,65 +182,67 @@ std::vector<double> PulseShader::weighted_k(const std::vector<sensor::SubRay>& s
     return k;
 }
 
-void PulseShader::shade(const RayBatch& g, const std::vector<Hit>& hits,
+void PulseShader::shade(const RayBatch& g, std::vector<Hit>& hits,
                         const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                         ShadedPoints& out) const {
     scratch.pending.clear();
     // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
     const std::vector<double> k = weighted_k(subrays);
-    // With continuations the batch's hits are followed by theirs (paths.cpp); returns then index
-    // the longer arrays. Without, everything below is the first-hit path as it always was.
+    const std::size_t own = hits.size();
+    // With continuations their hits follow the batch's own in `hits`, and returns index the
+    // longer vector. Without, everything below is the first-hit path as it always was.
     scratch.paths = trace_paths(g, hits, scratch, out.stats);
-    const std::vector<Hit>& all = scratch.paths ? scratch.path.hits : hits;
-    const Ray* rays = scratch.paths ? scratch.path.rays.data() : g.rays.data();
-    ray_terms(rays, all, scratch);
+    const RayView rays = rays_of(g, scratch.paths ? &scratch.path : nullptr);
+    ray_terms(g, hits, scratch);
     const double* terms = scratch.ray_terms.data();
     if (linear_)
-        waveform_returns(g, all, terms, k, scratch, out);
+        waveform_returns(g, hits, terms, k, scratch, out);
     else if (subrays.size() == 1 && !scratch.paths)
         single_returns(g, hits, terms, k[0], scratch, out.stats);
     else
-        clustered_returns(g, all, rays, terms, k, scratch, out.stats);
-    out.stats.rays += hits.size();
+        clustered_returns(g, hits, rays, terms, k, scratch, out.stats);
+    out.stats.rays += own;
     if (!linear_) vary_energy(g.first, scratch);  // the waveform detector's: per arrival
     draw(g.first, scratch);
     electrons(g, scratch);
-    detect(all, scratch);
+    detect(hits, scratch);
     positions(g, scratch);
-    emit_points(g, all, scratch, out);
+    emit_points(g, hits, scratch, out);
 }
 
-// Per ray of the batch, brdf·cos θ·τ²/R²: see ray_terms() above.
+// Per ray brdf·cos θ·τ²/R² (see ray_terms() above): the batch's own rays, then (scratch.paths)
+// the continuations', whose terms carry their paths' weights.
 void PulseShader::ray_terms(const RayBatch& g, const std::vector<Hit>& hits,
-                            ShadeScratch& scratch) const {
-    scratch.paths = false;
-    ray_terms(g.rays.data(), hits, scratch);
-}
-
-// The same for `rays` and their hits; a continuation's term carries its path's weight.
-void PulseShader::ray_terms(const Ray* rays, const std::vector<Hit>& hits,
                             ShadeScratch& scratch) const {
     scratch.ray_terms.resize(hits.size());
     const bool profile = env_.atmosphere.scale_height_m > 0.0;
-    render::ray_terms(rays, hits.data(), brdf_constant_.data(),
-                      static_cast<std::uint32_t>(brdf_constant_.size() - 1),
-                      sensor_.receiver.min_range_m, sensor_.receiver.max_range_m,
-                      profile ? 0.0 : 2.0 * env_.atmosphere.extinction_per_m, hits.size(),
-                      scratch.ray_terms.data());
-    if (profile) slant_transmission(rays, hits, scratch);
-    if (!scratch.paths) return;
-    for (std::size_t e = 0; e < hits.size(); ++e) scratch.ray_terms[e] *= scratch.path.weight[e];
+    const double alpha2 = profile ? 0.0 : 2.0 * env_.atmosphere.extinction_per_m;
+    const auto kernel = [&](const Ray* rays, std::size_t from, std::size_t count) {
+        render::ray_terms(rays, hits.data() + from, brdf_constant_.data(),
+                          static_cast<std::uint32_t>(brdf_constant_.size() - 1),
+                          sensor_.receiver.min_range_m, sensor_.receiver.max_range_m, alpha2, count,
+                          scratch.ray_terms.data() + from);
+    };
+    const PathScratch* paths = scratch.paths ? &scratch.path : nullptr;
+    const std::size_t own = paths ? paths->own : hits.size();
+    kernel(g.rays.data(), 0, own);
+    if (paths) {
+        kernel(paths->rays.data(), own, paths->rays.size());
+        for (std::size_t k = 0; k < paths->rays.size(); ++k)
+            scratch.ray_terms[own + k] *= paths->weight[k];
+    }
+    if (profile) slant_transmission(rays_of(g, paths), hits, scratch);
 }
 
 // An extinction profile: each term times the two-way transmittance of its path, from the ray's
 // origin to its hit in a straight line (a mirrored path: its last segment's mean α over the whole
 // length).
-void PulseShader::slant_transmission(const Ray* rays, const std::vector<Hit>& hits,
+void PulseShader::slant_transmission(const RayView& rays, const std::vector<Hit>& hits,
                                      ShadeScratch& scratch) const {
     for (std::size_t e = 0; e < hits.size(); ++e) {
         double& term = scratch.ray_terms[e];
         if (term == 0.0) continue;
-        const double base = scratch.paths ? scratch.path.base[e] : 0.0;
+        const double base = e < rays.n ? 0.0 : scratch.path.base[e - rays.n];
         const Ray& r = rays[e];
         const double z1 = r.oz + (hits[e].t - base) * r.dz;
         term *= std::exp(-2.0 * env_.atmosphere.optical_depth(r.oz, z1, hits[e].t));

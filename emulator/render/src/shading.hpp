@@ -38,25 +38,52 @@ struct PendingReturn {
     std::uint32_t k;    // index among its pulse's reported returns, nearest first
 };
 
-// A batch's paths beyond the first hit (paths.cpp; docs/time-resolved.md §5): the batch's own
-// rays and hits first, then the continuation segments round by round. Per entry: the two-way
-// weight of the surfaces passed before it, the path length before its ray's origin, the sub-ray
-// it descends from and a path code (the roulette's counter). Hit::t is the whole one-way path.
+// A batch's paths beyond the first hit (paths.cpp; docs/time-resolved.md §5). The batch's own
+// hits stay where they are and the continuations' hits follow them in the same vector (entry
+// e = own + k); here, per continuation k: its ray, the two-way weight of the surfaces passed
+// before it, the path length before its ray's origin, the sub-ray it descends from, a path code
+// (the roulette's counter) and its pulse. Hit::t is the whole one-way path.
 struct PathScratch {
+    std::size_t own = 0;  // the batch's own entries
     std::vector<Ray> rays;
-    std::vector<Hit> hits;
     std::vector<double> weight;
     std::vector<double> base;
     std::vector<std::uint32_t> sub, code, pulse;
     std::vector<std::uint32_t> first,
-        order;  // continuations of pulse i: order[first[i], first[i+1])
+        order;  // continuations of pulse i (entries): order[first[i], first[i+1])
     std::vector<Ray> round_rays;
     std::vector<Hit> round_hits;
     std::size_t most = 0;  // the most continuations of one pulse
 
+    void start(std::size_t own_entries) {
+        own = own_entries;
+        rays.clear();
+        weight.clear();
+        base.clear();
+        sub.clear();
+        code.clear();
+        pulse.clear();
+        round_rays.clear();
+    }
     std::span<const std::uint32_t> of_pulse(std::uint32_t i) const {
         return {order.data() + first[i], order.data() + first[i + 1]};
     }
+};
+
+// The ray of entry e: the batch's own, then the continuations'.
+struct RayView {
+    const Ray* own;
+    std::size_t n;
+    const Ray* more;
+    const Ray& operator[](std::size_t e) const { return e < n ? own[e] : more[e - n]; }
+};
+
+// What a continuation starts from: its parent entry's ray, hit and path state.
+struct PathParent {
+    Ray ray;
+    Hit hit;
+    double weight, base;
+    std::uint32_t sub, code, pulse;
 };
 
 // Samples [j0, j1) digitised as one waveform: arrivals [a, b) and, where it overlaps, the
@@ -144,7 +171,8 @@ class PulseShader {
   public:
     explicit PulseShader(const Setup& setup);
 
-    void shade(const RayBatch& g, const std::vector<Hit>& hits,
+    // `hits` (the batch's, one per ray) gains the hits of the paths' continuations.
+    void shade(const RayBatch& g, std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                ShadedPoints& out) const;
     // Pulse i's arrivals (docs/time-resolved.md §2): one per sub-ray hit within the receiver's
@@ -157,8 +185,8 @@ class PulseShader {
                         const PathScratch* paths = nullptr) const;
     // Per ray brdf·cos θ·τ²/R² into scratch.ray_terms (shading.cpp), and each sub-ray's power
     // per unit of it.
+    // With scratch.paths, also the continuations' (their hits after the batch's own).
     void ray_terms(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
-    void ray_terms(const Ray* rays, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     std::vector<double> weighted_k(const std::vector<sensor::SubRay>& subrays) const;
 
   private:
@@ -185,15 +213,16 @@ class PulseShader {
     // returns.cpp: sub-ray hits -> pending returns.
     void single_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                         double k, ShadeScratch& scratch, RenderStats& stats) const;
-    void clustered_returns(const RayBatch& g, const std::vector<Hit>& hits, const Ray* rays,
+    void clustered_returns(const RayBatch& g, const std::vector<Hit>& hits, const RayView& rays,
                            const double* terms, const std::vector<double>& weighted_k,
                            ShadeScratch& scratch, RenderStats& stats) const;
-    // h, ray and term point at the pulse's first sub-ray (batch entry r); its continuations
-    // (paths, when the batch has them) follow the sub-rays, at entries e − r.
-    PulseHits gather_hits(const Hit* h, const Ray* ray, const double* term,
+    // h and term point at the pulse's first sub-ray (batch entry r); its continuations (paths,
+    // when the batch has them) at entries e, relative index e − r.
+    PulseHits gather_hits(const Hit* h, const RayView& rays, const double* term,
                           const std::vector<double>& weighted_k, Contribution* buffer,
                           const PathScratch* paths, std::uint32_t r, std::uint32_t i) const;
-    void set_patch_depths(const Hit* h, const Ray* ray, std::span<Contribution> contrib) const;
+    void set_patch_depths(const Hit* h, const RayView& rays, std::uint32_t r,
+                          std::span<Contribution> contrib) const;
     void split_returns(std::uint32_t i, std::uint32_t first_hit, std::span<Contribution> contrib,
                        ShadeScratch& scratch) const;
     int group_returns(std::span<const Contribution> contrib, ReturnSum (&sums)[8]) const;
@@ -231,11 +260,13 @@ class PulseShader {
     void vary_energy(std::uint64_t first, ShadeScratch& scratch) const;
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
-    void start_paths(const RayBatch& g, const std::vector<Hit>& hits, PathScratch& p) const;
-    bool trace_paths(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& s,
+    bool continues(const Hit& h) const;
+    bool trace_paths(const RayBatch& g, std::vector<Hit>& hits, ShadeScratch& s,
                      RenderStats& stats) const;
-    void spawn(std::uint64_t first_pulse, std::size_t e, PathScratch& p, RenderStats& stats) const;
-    void index_by_pulse(std::size_t pulses, std::size_t own, PathScratch& p) const;
+    bool trace_round(PathScratch& p, std::vector<Hit>& hits, RenderStats& stats) const;
+    void spawn(std::uint64_t first_pulse, const PathParent& parent, PathScratch& p,
+               RenderStats& stats) const;
+    void index_by_pulse(std::size_t pulses, PathScratch& p) const;
     // waveform_record.cpp: the digitised window a render records per pulse with returns.
     void record_group(std::int64_t j0, std::int64_t wave_first, ShadeScratch& scratch) const;
     std::uint32_t record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
@@ -243,8 +274,12 @@ class PulseShader {
 
     // shading.cpp: pending returns -> points.
     void electrons(const RayBatch& g, ShadeScratch& scratch) const;
-    void slant_transmission(const Ray* rays, const std::vector<Hit>& hits,
+    void slant_transmission(const RayView& rays, const std::vector<Hit>& hits,
                             ShadeScratch& scratch) const;
+    RayView rays_of(const RayBatch& g, const PathScratch* paths) const {
+        return {g.rays.data(), paths ? paths->own : g.rays.size(),
+                paths ? paths->rays.data() : nullptr};
+    }
     void draw(std::uint64_t first, ShadeScratch& scratch) const;
     void detect(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void positions(const RayBatch& g, ShadeScratch& scratch) const;

@@ -23,7 +23,7 @@ bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits
                                  const PathScratch* paths) const {
     const auto& rx = sensor_.receiver;
     const double e_per_w = radiometry_.laser_electrons(1.0);
-    const Ray* rays = paths ? paths->rays.data() : g.rays.data();
+    const RayView rays = rays_of(g, paths);
     bool close = false;
     out.clear();
     // Batch entry e with its sub-ray's power factor k.
@@ -47,7 +47,8 @@ bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits
     const std::uint32_t r = g.first_ray[i];
     for (std::uint32_t s = 0; s < weighted_k.size(); ++s) take(r + s, weighted_k[s]);
     if (paths)
-        for (const std::uint32_t e : paths->of_pulse(i)) take(e, weighted_k[paths->sub[e]]);
+        for (const std::uint32_t e : paths->of_pulse(i))
+            take(e, weighted_k[paths->sub[e - paths->own]]);
     return close;
 }
 
