@@ -81,6 +81,12 @@ inline std::string fixed_text(const std::uint8_t* p, std::size_t n) {
     return std::string(reinterpret_cast<const char*>(p), len);
 }
 
+// A NUL-padded text field of n bytes (longer text is cut).
+inline void put_text(std::uint8_t* p, std::size_t n, const std::string& s) {
+    std::memset(p, 0, n);
+    std::memcpy(p, s.data(), s.size() < n ? s.size() : n);
+}
+
 inline void put_u8(std::uint8_t* p, std::uint8_t v) { p[0] = v; }
 // On a little-endian host the bytes are the value's own, copied in one store (the encoder writes
 // a dozen fields per point; GCC did not merge all the byte-by-byte stores); else byte by byte.

@@ -13,11 +13,6 @@ namespace {
 
 using namespace layout;
 
-void put_text(std::uint8_t* p, std::size_t n, const std::string& s) {
-    std::memset(p, 0, n);
-    std::memcpy(p, s.data(), std::min(n, s.size()));
-}
-
 std::vector<std::uint8_t> vlr(const char* user, std::uint16_t id, const char* description,
                               std::size_t payload) {
     std::vector<std::uint8_t> v(kVlrHeaderSize + payload, 0);

@@ -247,7 +247,7 @@ class PulseShader {
     void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
                       ShadeScratch& scratch) const;
     void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
-                    std::uint32_t wave, std::int64_t wave_first, ShadeScratch& scratch) const;
+                    std::uint32_t wave, ShadeScratch& scratch) const;
     double matched_time_ns(const physics::Echo& e, std::int64_t j0, double baseline,
                            ShadeScratch& scratch) const;
     EchoFields echo_fields(const physics::Echo& e, std::uint32_t wave,
@@ -268,7 +268,7 @@ class PulseShader {
                RenderStats& stats) const;
     void index_by_pulse(std::size_t pulses, PathScratch& p) const;
     // waveform_record.cpp: the digitised window a render records per pulse with returns.
-    void record_group(std::int64_t j0, std::int64_t wave_first, ShadeScratch& scratch) const;
+    void record_group(std::int64_t j0, ShadeScratch& scratch) const;
     std::uint32_t record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
                                std::vector<std::uint32_t>& samples) const;
 

@@ -10,11 +10,10 @@
 namespace mirage::render {
 
 // One arrival group's digitised counts (scratch.counts, from sample j0) into the pulse's window.
-void PulseShader::record_group(std::int64_t j0, std::int64_t wave_first,
-                               ShadeScratch& scratch) const {
+void PulseShader::record_group(std::int64_t j0, ShadeScratch& scratch) const {
     const auto window = static_cast<std::int64_t>(scratch.record.size());
     for (std::size_t k = 0; k < scratch.counts.size(); ++k) {
-        const std::int64_t at = j0 + static_cast<std::int64_t>(k) - wave_first;
+        const std::int64_t at = j0 + static_cast<std::int64_t>(k) - scratch.wave_first;
         if (at >= window) break;
         scratch.record[static_cast<std::size_t>(at)] = scratch.counts[k];
     }

@@ -115,7 +115,7 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
         std::uint32_t wave = core::PointRecord::kNoWave;
         if (opt_.waveform_samples > 0)
             wave = record_pulse(g.first + i, floor_pe, scratch, out.samples);
-        add_echoes(i, arrivals, wave, scratch.wave_first, scratch);
+        add_echoes(i, arrivals, wave, scratch);
     }
 }
 
@@ -169,7 +169,7 @@ void PulseShader::detect_group(std::uint64_t pulse, const SampleGroup& g, double
     if (noisy) draw_normals(pulse, n, block, scratch);
     linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
                       scratch.counts.data());
-    if (opt_.waveform_samples > 0) record_group(g.j0, scratch.wave_first, scratch);
+    if (opt_.waveform_samples > 0) record_group(g.j0, scratch);
     const std::size_t got =
         linear_->find_echoes(scratch.counts.data(), n, g.j0, noisy ? floor_pe : 0.0, noisy,
                              scratch.echoes.data() + found, kMaxEchoes - found);
@@ -274,8 +274,7 @@ EchoFields PulseShader::echo_fields(const physics::Echo& e, std::uint32_t wave,
 // ones (as the discrete detector chooses). Each takes material and normal from the strongest
 // arrival within 2σ_p of it (else the nearest arrival).
 void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
-                             std::uint32_t wave, std::int64_t wave_first,
-                             ShadeScratch& scratch) const {
+                             std::uint32_t wave, ShadeScratch& scratch) const {
     auto& echoes = scratch.echoes;
     const int max_returns = std::clamp(sensor_.receiver.max_returns, 1, 8);
     if (max_returns == 1) {
@@ -309,7 +308,7 @@ void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival
         const bool volume = best < 0 && (arrivals.empty() || in_volume(t_ns));
         const std::uint32_t hit = volume ? kVolumeHit : best >= 0 ? strong : near;
         scratch.pending.push_back({t_ns * kMetersPerNsOneWay, e.pe / e_per_w, i, hit, k++});
-        scratch.echo_fields.push_back(echo_fields(e, wave, wave_first));
+        scratch.echo_fields.push_back(echo_fields(e, wave, scratch.wave_first));
     }
 }
 
