@@ -147,4 +147,48 @@ std::size_t LinearDetector::find_echoes(const double* counts, std::size_t n, std
     return found;
 }
 
+namespace {
+
+// x in [−1, 0] where the parabola through (−1, lm), (0, l0), (1, lp) equals `level` on its
+// rising side; NaN if it does not there.
+double parabola_crossing(double lm, double l0, double lp, double level) {
+    const double a = 0.5 * (lm - 2 * l0 + lp), b = 0.5 * (lp - lm), c = l0 - level;
+    if (std::abs(a) < 1e-12 * (std::abs(b) + std::abs(c))) {
+        const double x = b != 0 ? -c / b : NAN;
+        return x >= -1 && x <= 0 ? x : NAN;
+    }
+    const double disc = b * b - 4 * a * c;
+    if (disc < 0) return NAN;
+    const double r = std::sqrt(disc);
+    for (const double x : {(-b - r) / (2 * a), (-b + r) / (2 * a)})
+        if (x >= -1 && x <= 0 && 2 * a * x + b > 0) return x;
+    return NAN;
+}
+
+}  // namespace
+
+double LinearDetector::leading_edge_ns(const double* counts, std::size_t n, std::int64_t j0,
+                                       double off, const Echo& e, double fraction) const {
+    const auto clip = [&](std::int64_t j) {
+        return static_cast<std::size_t>(std::clamp<std::int64_t>(j - j0, 0, std::int64_t(n)));
+    };
+    const std::size_t lo = clip(e.first), hi = clip(e.end);
+    if (lo >= hi) return NAN;
+    const auto top = static_cast<std::size_t>(std::max_element(counts + lo, counts + hi) - counts);
+    const double level = fraction * e.amplitude_counts;
+    std::size_t j = top;
+    while (j > lo && counts[j - 1] - off >= level) --j;
+    // No sample below the level before the top inside the echo (it rides on an earlier one), or
+    // the amplitude above every sample: no edge to time.
+    if (j == 0 || counts[j] - off < level || counts[j - 1] - off >= level) return NAN;
+    const double y1 = counts[j - 1] - off, y2 = counts[j] - off;
+    double x = (level - y1) / (y2 - y1) - 1.0;  // linear, relative to sample j
+    if (y1 > 0 && j + 1 < n && counts[j + 1] - off > 0) {
+        const double xp = parabola_crossing(std::log(y1), std::log(y2),
+                                            std::log(counts[j + 1] - off), std::log(level));
+        if (!std::isnan(xp)) x = xp;
+    }
+    return (static_cast<double>(j0 + static_cast<std::int64_t>(j)) + x) * period_ns_;
+}
+
 }  // namespace mirage::physics

@@ -137,6 +137,8 @@ PulseShader::PulseShader(const Setup& setup)
         linear_.emplace(sensor_.linear, source);
         synth_.emplace(shape, 1.0 / sensor_.linear.sample_rate_gsps,
                        source + ": detector.sample_rate_gsps");
+        if (sensor_.linear.timing == sensor::EchoTiming::ConstantFraction)
+            cfd_offset_ns_ = calibrate_cfd();
     }
     check_recording();
     init_volume();

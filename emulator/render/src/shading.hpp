@@ -250,6 +250,9 @@ class PulseShader {
                     std::uint32_t wave, ShadeScratch& scratch) const;
     double matched_time_ns(const physics::Echo& e, std::int64_t j0, double baseline,
                            ShadeScratch& scratch) const;
+    void time_echoes(const SampleGroup& g, double baseline, std::size_t from, std::size_t to,
+                     ShadeScratch& scratch) const;
+    double calibrate_cfd() const;
     EchoFields echo_fields(const physics::Echo& e, std::uint32_t wave,
                            std::int64_t wave_first) const;
     double fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
@@ -320,6 +323,9 @@ class PulseShader {
     std::optional<physics::WaveformSynth> synth_;
     double sigma_p_ns_ = 0;  // the pulse's RMS width
     bool matched_ = false;   // a measured pulse: echoes timed by the matched filter
+    // Constant-fraction timing: the emitted pulse's own delay from its leading edge at the
+    // fraction to its centroid, added to every edge so a lone echo is timed as its peak.
+    double cfd_offset_ns_ = 0;
 };
 
 }  // namespace mirage::render

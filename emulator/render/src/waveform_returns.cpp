@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mirage/core/error.hpp"
 #include "mirage/core/rng.hpp"
 #include "shading.hpp"
 
@@ -170,17 +171,66 @@ void PulseShader::detect_group(std::uint64_t pulse, const SampleGroup& g, double
     linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
                       scratch.counts.data());
     if (opt_.waveform_samples > 0) record_group(g.j0, scratch);
-    const std::size_t got =
-        linear_->find_echoes(scratch.counts.data(), n, g.j0, noisy ? floor_pe : 0.0, noisy,
-                             scratch.echoes.data() + found, kMaxEchoes - found);
-    const double baseline = linear_->params().offset_counts +
-                            (noisy ? linear_->params().gain_counts_per_pe * floor_pe : 0.0);
-    for (std::size_t e = found; e < found + got; ++e) {
-        physics::Echo& echo = scratch.echoes[e];
-        echo.deviation = fit_deviation(echo, g.j0, baseline, scratch);
-        if (matched_) echo.time_ns = matched_time_ns(echo, g.j0, baseline, scratch);
-    }
+    const double floor = noisy ? floor_pe : 0.0;
+    std::size_t got = linear_->find_echoes(scratch.counts.data(), n, g.j0, floor, noisy,
+                                           scratch.echoes.data() + found, kMaxEchoes - found);
+    const auto& p = linear_->params();
+    if (p.timing == sensor::EchoTiming::Decomposition)
+        got = linear_->decompose(scratch.counts.data(), n, g.j0, floor, noisy, sigma_p_ns_,
+                                 scratch.echoes.data() + found, got, kMaxEchoes - found);
+    time_echoes(g, p.offset_counts + p.gain_counts_per_pe * floor, found, found + got, scratch);
     found += got;
+}
+
+// The echoes [from, to) of group g timed as the detector's timing says (docs/time-resolved.md
+// §12), with their deviation from the fit (the decomposition sets its own).
+void PulseShader::time_echoes(const SampleGroup& g, double baseline, std::size_t from,
+                              std::size_t to, ShadeScratch& scratch) const {
+    const auto& p = linear_->params();
+    const auto n = static_cast<std::size_t>(g.j1 - g.j0);
+    for (std::size_t e = from; e < to; ++e) {
+        physics::Echo& echo = scratch.echoes[e];
+        if (p.timing == sensor::EchoTiming::Decomposition) continue;
+        echo.deviation = fit_deviation(echo, g.j0, baseline, scratch);
+        if (p.timing == sensor::EchoTiming::ConstantFraction) {
+            const double edge = linear_->leading_edge_ns(scratch.counts.data(), n, g.j0, baseline,
+                                                         echo, p.cfd_fraction);
+            if (!std::isnan(edge)) echo.time_ns = edge + cfd_offset_ns_;
+        } else if (matched_) {
+            echo.time_ns = matched_time_ns(echo, g.j0, baseline, scratch);
+        }
+    }
+}
+
+// The constant-fraction offset, measured as a receiver is calibrated: the detector's own edge
+// on noise-free echoes of the emitted pulse at 32 phases of the clock, against their centroid.
+double PulseShader::calibrate_cfd() const {
+    const double period_ps = 1e3 * synth_->period_ns();
+    const double fraction = linear_->params().cfd_fraction;
+    double sum = 0;
+    int counted = 0;
+    std::vector<double> wave, counts;
+    for (int k = 0; k < 32; ++k) {
+        const auto delay = static_cast<std::int64_t>(std::llround(period_ps * (1000 + k / 32.0)));
+        const std::int64_t j0 = synth_->first_sample(delay) - 1;
+        wave.assign(static_cast<std::size_t>(synth_->end_sample(delay) + 1 - j0), 0.0);
+        synth_->add({delay, 1000.0f, 0}, j0, wave);
+        counts.resize(wave.size());
+        linear_->digitise(wave.data(), nullptr, wave.size(), counts.data());
+        physics::Echo e;
+        if (linear_->find_echoes(counts.data(), counts.size(), j0, 0.0, false, &e, 1) != 1)
+            continue;
+        const double edge = linear_->leading_edge_ns(counts.data(), counts.size(), j0,
+                                                     linear_->params().offset_counts, e, fraction);
+        if (std::isnan(edge)) continue;
+        sum += 1e-3 * double(delay) - edge;
+        ++counted;
+    }
+    if (counted == 0)
+        throw mirage::ConfigError("sensor '" + sensor_.name +
+                                  "': detector.cfd_fraction: the pulse has no leading edge at " +
+                                  std::to_string(fraction) + " of its peak on this clock");
+    return sum / counted;
 }
 
 // The RMS difference between an echo's samples and its fitted Gaussian on the baseline (counts):

@@ -16,6 +16,18 @@
 namespace mirage::sensor {
 namespace {
 
+std::string timing_text(const LinearDetectorParams& d) {
+    switch (d.timing) {
+        case EchoTiming::ConstantFraction:
+            return fmt::format("constant fraction {:.2f} of the amplitude", d.cfd_fraction);
+        case EchoTiming::Decomposition:
+            return "Gaussian decomposition";
+        case EchoTiming::Peak:
+            break;
+    }
+    return "peak (Gaussian fit; matched filter for a measured pulse)";
+}
+
 std::string channel_tail(const SensorModel& m) {
     return fmt::format(" | {:.1f} nm {:.3f} uJ {:.3f} mrad sub-rays {} range {:.2f}-{:.1f} m",
                        m.beam.wavelength_m * 1e9, m.beam.pulse_energy_j * 1e6,
@@ -91,6 +103,7 @@ std::string describe(const SensorModel& m) {
             d.gain_counts_per_pe, d.apd_gain, d.apd_k, d.thermal_noise_pe, d.dark_current_na,
             d.threshold_counts > 0 ? fmt::format("{:.1f} counts", d.threshold_counts)
                                    : std::string("4 sigma of the noise floor"));
+        out += "  echo timing: " + timing_text(d) + "\n";
     } else {
         out += "  detector: discrete (sub-ray hits merged c*tau/2 apart)\n";
     }

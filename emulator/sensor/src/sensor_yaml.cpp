@@ -245,13 +245,39 @@ void read_noise(const Reader& r, const YAML::Node& n, NoiseParams& x) {
             1e-3 * r.number(n["jitter_sigma_mrad"], "noise.jitter_sigma_mrad", 0, 100);
 }
 
+// `detector.timing` (peak, constant_fraction, decomposition) and `detector.cfd_fraction`, which
+// only the constant-fraction timing reads.
+void read_echo_timing(const Reader& r, const YAML::Node& n, SensorModel& m) {
+    LinearDetectorParams& p = m.linear;
+    if (n["timing"]) {
+        if (m.detector != DetectorKind::Linear)
+            r.fail("detector.timing", "only with detector.type: linear");
+        const std::string t = r.text(n["timing"], "detector.timing");
+        if (t == "peak")
+            p.timing = EchoTiming::Peak;
+        else if (t == "constant_fraction")
+            p.timing = EchoTiming::ConstantFraction;
+        else if (t == "decomposition")
+            p.timing = EchoTiming::Decomposition;
+        else
+            r.fail("detector.timing",
+                   "'" + t + "' is not peak, constant_fraction or decomposition");
+    }
+    if (n["cfd_fraction"]) {
+        if (p.timing != EchoTiming::ConstantFraction)
+            r.fail("detector.cfd_fraction", "only with detector.timing: constant_fraction");
+        p.cfd_fraction = r.number(n["cfd_fraction"], "detector.cfd_fraction", 0.01, 0.99);
+    }
+}
+
 // `detector:`: `type: discrete` (default) or `linear` with the digitiser and APD settings
 // (docs/time-resolved.md §7); those settings are refused with the discrete detector, where they
 // would do nothing.
 void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
     r.only_keys(n, "detector",
                 {"type", "sample_rate_gsps", "bits", "offset_counts", "gain_counts_per_pe",
-                 "apd_gain", "apd_k", "thermal_noise_pe", "dark_current_na", "threshold_counts"});
+                 "apd_gain", "apd_k", "thermal_noise_pe", "dark_current_na", "threshold_counts",
+                 "timing", "cfd_fraction"});
     if (n["type"]) {
         const std::string t = r.text(n["type"], "detector.type");
         if (t == "discrete")
@@ -276,6 +302,7 @@ void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
     get("thermal_noise_pe", 0, 1e6, false, p.thermal_noise_pe);
     get("dark_current_na", 0, 1e6, false, p.dark_current_na);
     get("threshold_counts", 0, 4e9, false, p.threshold_counts);
+    read_echo_timing(r, n, m);
     if (n["bits"]) {
         if (m.detector != DetectorKind::Linear)
             r.fail("detector.bits", "only with detector.type: linear");

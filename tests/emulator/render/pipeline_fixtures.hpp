@@ -5,6 +5,7 @@
 #include <numbers>
 #include <vector>
 
+#include "mirage/physics/waveform.hpp"
 #include "mirage/render/embree_renderer.hpp"
 #include "mirage/render/pipeline.hpp"
 #include "mirage/scene/scene.hpp"
@@ -107,6 +108,39 @@ class CallbackSink : public render::PointSink {
 
 inline Eigen::Vector3f unit(double x, double y, double z) {
     return Eigen::Vector3d(x, y, z).normalized().cast<float>();
+}
+
+// A still sensor at the origin: pulses [0, n) 1 µs apart (FanPattern's period), noise off, one
+// thread; the points and the run's counters.
+struct Rendered {
+    std::vector<core::PointRecord> points;
+    render::RenderStats stats;
+};
+inline Rendered render_still(const scene::Scene& scene, const sensor::SensorModel& sensor,
+                             std::uint64_t pulses) {
+    render::EmbreeRenderer r(scene);
+    render::RenderOptions o;
+    o.noise = false;
+    o.threads = 1;
+    o.duration = core::Nanos(static_cast<std::int64_t>(pulses) * 1000);
+    VectorSink sink;
+    const auto stats =
+        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, o}, sink);
+    return {sink.points, stats};
+}
+
+// The photo-electron-weighted variance of arrivals' delays, ns²: the footprint's spread of the
+// waveform (docs/time-resolved.md §4).
+inline double delay_variance_ns2(const std::vector<physics::Arrival>& a) {
+    double m0 = 0, m1 = 0, m2 = 0;
+    for (const auto& x : a) {
+        const double t = 1e-3 * static_cast<double>(x.delay_ps);
+        m0 += x.pe;
+        m1 += x.pe * t;
+        m2 += x.pe * t * t;
+    }
+    const double mean = m1 / m0;
+    return m2 / m0 - mean * mean;
 }
 
 }  // namespace mirage::test

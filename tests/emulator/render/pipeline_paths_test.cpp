@@ -51,22 +51,9 @@ sensor::SensorModel path_sensor(sensor::DetectorKind kind) {
     return s;
 }
 
-struct Rendered {
-    std::vector<core::PointRecord> points;
-    render::RenderStats stats;
-};
-
 Rendered render_scene(const scene::Scene& scene, const sensor::SensorModel& sensor,
                       std::uint64_t pulses = 100) {
-    render::EmbreeRenderer r(scene);
-    render::RenderOptions o;
-    o.noise = false;
-    o.threads = 1;
-    o.duration = core::Nanos(static_cast<std::int64_t>(pulses) * 1000);
-    VectorSink sink;
-    const auto stats =
-        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, {}, o}, sink);
-    return {sink.points, stats};
+    return render_still(scene, sensor, pulses);
 }
 
 // Photo-electrons of the return of `pulse` nearest to `range`.

@@ -52,18 +52,9 @@ TwoDetectors both_detectors(const scene::Scene& scene, const render::EmbreeRende
     return {wave.points, disc.points};
 }
 
-// σ_t² of the expected waveform: the pulse's σ_p² plus the photo-electron-weighted variance of
-// the arrivals' delays (docs/time-resolved.md §4).
+// σ_t² of the expected waveform: the pulse's σ_p² plus the spread of the arrivals' delays.
 double waveform_sigma2_ns2(const std::vector<physics::Arrival>& a, double sigma_p_ns) {
-    double m0 = 0, m1 = 0, m2 = 0;
-    for (const auto& x : a) {
-        const double t = 1e-3 * static_cast<double>(x.delay_ps);
-        m0 += x.pe;
-        m1 += x.pe * t;
-        m2 += x.pe * t * t;
-    }
-    const double mean = m1 / m0;
-    return sigma_p_ns * sigma_p_ns + m2 / m0 - mean * mean;
+    return sigma_p_ns * sigma_p_ns + delay_variance_ns2(a);
 }
 
 // Tilted plane: σ² = σ_p² + (R·tan θ_b·tan S / c)² for the whole Gaussian beam (θ_b the 1/e²

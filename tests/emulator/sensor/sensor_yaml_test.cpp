@@ -263,6 +263,31 @@ detector: {type: linear, sample_rate_gsps: 2, bits: 14, offset_counts: 200, apd_
               "beam.footprint_radius: 4 is outside (0, 3]");
 }
 
+// `detector.timing` chooses how echoes are timed; `cfd_fraction` belongs to the constant-fraction
+// timing alone (it would do nothing with the others).
+TEST(SensorYaml, detector_timing_and_cfd_fraction) {
+    test::TempDir dir;
+    const auto timing_of = [&](const std::string& text) {
+        return load_sensor_yaml(write(dir, "t.yaml", "base: vlp16\n" + text)).linear;
+    };
+    EXPECT_EQ(timing_of("detector: {type: linear}\n").timing, EchoTiming::Peak);
+    const auto cfd =
+        timing_of("detector: {type: linear, timing: constant_fraction, cfd_fraction: 0.3}\n");
+    EXPECT_EQ(cfd.timing, EchoTiming::ConstantFraction);
+    EXPECT_EQ(cfd.cfd_fraction, 0.3);
+    EXPECT_EQ(timing_of("detector: {type: linear, timing: decomposition}\n").timing,
+              EchoTiming::Decomposition);
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {timing: peak}\n"),
+              "detector.timing: only with detector.type: linear");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, timing: leading}\n"),
+              "detector.timing: 'leading' is not peak, constant_fraction or decomposition");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, cfd_fraction: 0.5}\n"),
+              "detector.cfd_fraction: only with detector.timing: constant_fraction");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, timing: constant_fraction, "
+                       "cfd_fraction: 1}\n"),
+              "detector.cfd_fraction: 1 is outside [0.01, 0.99]");
+}
+
 TEST(SensorYaml, resolve_takes_a_preset_name_or_a_file) {
     EXPECT_EQ(resolve_sensor("hdl32e").name, "hdl32e");
     test::TempDir dir;

@@ -51,6 +51,23 @@ class LinearDetector {
     std::size_t find_echoes(const double* counts, std::size_t n, std::int64_t j0, double floor_pe,
                             bool noisy, Echo* out, std::size_t max) const;
 
+    // Constant-fraction timing of echo `e` (from find_echoes on the same counts, baseline in
+    // counts): when the signal first rises through `fraction` of its amplitude before its highest
+    // sample, ln y interpolated by the parabola through the samples around the crossing (exact
+    // for a Gaussian edge), linearly where one of them is not above the baseline. Add the pulse's
+    // own crossing-to-centroid delay for a range (docs/time-resolved.md §12).
+    double leading_edge_ns(const double* counts, std::size_t n, std::int64_t j0, double baseline,
+                           const Echo& e, double fraction) const;
+    // Gaussian decomposition of counts[0, n) (docs/time-resolved.md §12): echoes[0, found) from
+    // find_echoes seed a least-squares fit (Levenberg–Marquardt, weighted by each sample's noise
+    // when `noisy`) of a sum of Gaussians no narrower than `min_sigma_ns`; a component is added
+    // where the residual exceeds the threshold and 4σ of the sample's noise, and dropped when its
+    // amplitude falls below the threshold. Replaces echoes[0, ·) in time order, deviation set to
+    // the RMS residual over each component's samples; returns how many (≤ max).
+    std::size_t decompose(const double* counts, std::size_t n, std::int64_t j0, double floor_pe,
+                          bool noisy, double min_sigma_ns, Echo* echoes, std::size_t found,
+                          std::size_t max) const;
+
   private:
     static constexpr std::size_t kMaxPeaks = 32;
     std::size_t peaks(const double* counts, std::size_t n, double baseline, double thr, bool noisy,

@@ -115,6 +115,13 @@ enum class DetectorKind : std::uint8_t {
 
 // The linear-mode detector's settings (sensor YAML `detector:`; physics::LinearDetector checks
 // them and documents each).
+// How the linear detector times an echo (docs/time-resolved.md §12).
+enum class EchoTiming : std::uint8_t {
+    Peak,              // a Gaussian through the maximum (the matched filter for a measured pulse)
+    ConstantFraction,  // the leading edge at a fraction of the amplitude, calibrated on the pulse
+    Decomposition,     // a least-squares sum of Gaussians over the waveform
+};
+
 struct LinearDetectorParams {
     double sample_rate_gsps = 1.0;    // digitiser clock
     int bits = 12;                    // counts 0 … 2^bits − 1
@@ -125,6 +132,8 @@ struct LinearDetectorParams {
     double thermal_noise_pe = 2.0;    // amplifier noise, rms per sample, referred to the input
     double dark_current_na = 0.0;     // primary dark current, referred to the input
     double threshold_counts = 0.0;    // above the baseline; 0: 4σ of the pulse's noise floor
+    EchoTiming timing = EchoTiming::Peak;
+    double cfd_fraction = 0.5;  // of the echo's amplitude, with EchoTiming::ConstantFraction
 };
 
 struct SensorModel {
