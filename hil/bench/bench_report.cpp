@@ -53,17 +53,22 @@ void markdown_detectors(std::ostream& md, const BenchReport& r) {
     md << "\n## Waveform detector against the discrete one (same rays, same run)\n\n"
           "The same job with `detector.type: linear` (1 GS/s digitiser, noise on) and with the "
           "discrete detector, and the Embree ceiling of those rays, interleaved; the best run of "
-          "each (docs/time-resolved.md §12).\n\n"
+          "each (docs/time-resolved.md §12). The waveform detector times echoes by their peak; the "
+          "last two columns time them by constant fraction and by Gaussian decomposition "
+          "(§12.1), relative to the peak timing.\n\n"
           "| sensor | sub-rays | pulses | discrete M pulses/s | waveform M pulses/s | waveform / "
-          "discrete | ceiling M pulses/s | waveform / ceiling | waveform M points/s |\n"
-          "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+          "discrete | ceiling M pulses/s | waveform / ceiling | waveform M points/s | constant "
+          "fraction / peak | decomposition / peak |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& d : r.detectors)
         md << fmt::format(
-            "| {} | {} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} |\n", d.sensor,
-            d.sub_rays, d.pulses, fig(d.discrete_pulses_per_s / 1e6),
+            "| {} | {} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | "
+            "{:.2f} |\n",
+            d.sensor, d.sub_rays, d.pulses, fig(d.discrete_pulses_per_s / 1e6),
             fig(d.waveform_pulses_per_s / 1e6), fig(d.to_discrete()),
             fig(d.ceiling_pulses_per_s / 1e6), fig(d.to_ceiling()),
-            fig(d.waveform_points_per_s / 1e6));
+            fig(d.waveform_points_per_s / 1e6), fig(d.cfd_to_peak()),
+            fig(d.decomposition_to_peak()));
 }
 
 void markdown_paths(std::ostream& md, const BenchReport& r) {
@@ -161,7 +166,11 @@ nlohmann::ordered_json detector_json(const DetectorRow& d) {
             {"waveform_pulses_per_s", d.waveform_pulses_per_s},
             {"ceiling_pulses_per_s", d.ceiling_pulses_per_s},
             {"waveform_to_discrete", d.to_discrete()},
-            {"waveform_to_ceiling", d.to_ceiling()}};
+            {"waveform_to_ceiling", d.to_ceiling()},
+            {"cfd_pulses_per_s", d.cfd_pulses_per_s},
+            {"decomposition_pulses_per_s", d.decomposition_pulses_per_s},
+            {"cfd_to_peak", d.cfd_to_peak()},
+            {"decomposition_to_peak", d.decomposition_to_peak()}};
 }
 
 nlohmann::ordered_json path_json(const PathRow& p) {

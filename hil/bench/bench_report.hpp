@@ -34,6 +34,15 @@ struct DetectorRow {
     int repeats = 1;
     double discrete_pulses_per_s = 0, waveform_pulses_per_s = 0, ceiling_pulses_per_s = 0;
     double waveform_points_per_s = 0, discrete_points_per_s = 0;
+    // The waveform detector with constant-fraction timing and with Gaussian decomposition
+    // (waveform_pulses_per_s: peak timing).
+    double cfd_pulses_per_s = 0, decomposition_pulses_per_s = 0;
+    double cfd_to_peak() const {
+        return waveform_pulses_per_s > 0 ? cfd_pulses_per_s / waveform_pulses_per_s : 0;
+    }
+    double decomposition_to_peak() const {
+        return waveform_pulses_per_s > 0 ? decomposition_pulses_per_s / waveform_pulses_per_s : 0;
+    }
     double to_discrete() const {
         return discrete_pulses_per_s > 0 ? waveform_pulses_per_s / discrete_pulses_per_s : 0;
     }

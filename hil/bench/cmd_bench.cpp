@@ -120,7 +120,8 @@ void bench_throughput(const BenchBase& base, const Job& shared, const Opts& o,
     }
 }
 
-// One sensor's detectors on the same job: discrete, waveform and the ceiling, interleaved.
+// One sensor's detectors on the same job: discrete, waveform (timed by peak, constant fraction
+// and decomposition) and the ceiling, interleaved.
 DetectorRow detector_row(const BenchBase& base, const Job& shared, const char* sensor,
                          const char* trajectory, int sub_rays, const Opts& o) {
     Job job = row_job(base, shared, sensor, trajectory, sub_rays, o);
@@ -136,7 +137,14 @@ DetectorRow detector_row(const BenchBase& base, const Job& shared, const char* s
         job.sensor.detector = sensor::DetectorKind::Discrete;
         const render::RenderStats d = run_pipeline_to_null(job);
         job.sensor.detector = sensor::DetectorKind::Linear;
+        job.sensor.linear.timing = sensor::EchoTiming::Peak;
         const render::RenderStats w = run_pipeline_to_null(job);
+        job.sensor.linear.timing = sensor::EchoTiming::ConstantFraction;
+        row.cfd_pulses_per_s =
+            std::max(row.cfd_pulses_per_s, rate(run_pipeline_to_null(job), false));
+        job.sensor.linear.timing = sensor::EchoTiming::Decomposition;
+        row.decomposition_pulses_per_s =
+            std::max(row.decomposition_pulses_per_s, rate(run_pipeline_to_null(job), false));
         row.discrete_pulses_per_s = std::max(row.discrete_pulses_per_s, rate(d, false));
         row.discrete_points_per_s = std::max(row.discrete_points_per_s, rate(d, true));
         row.waveform_pulses_per_s = std::max(row.waveform_pulses_per_s, rate(w, false));
@@ -146,9 +154,11 @@ DetectorRow detector_row(const BenchBase& base, const Job& shared, const char* s
     }
     fmt::print(
         "{:>11} sub-rays {:>2}: waveform {:6.3f} M pulses/s | discrete {:6.3f} | ratio {:.2f} | "
-        "ceiling {:6.3f}, waveform/ceiling {:.2f}\n",
+        "ceiling {:6.3f}, waveform/ceiling {:.2f} | constant fraction/peak {:.2f}, "
+        "decomposition/peak {:.2f}\n",
         sensor, sub_rays, row.waveform_pulses_per_s / 1e6, row.discrete_pulses_per_s / 1e6,
-        row.to_discrete(), row.ceiling_pulses_per_s / 1e6, row.to_ceiling());
+        row.to_discrete(), row.ceiling_pulses_per_s / 1e6, row.to_ceiling(), row.cfd_to_peak(),
+        row.decomposition_to_peak());
     return row;
 }
 

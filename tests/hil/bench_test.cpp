@@ -89,6 +89,10 @@ void check_detectors(const json& r) {
         EXPECT_GT(measured(d, "waveform_pulses_per_s"), 0.0);
         EXPECT_GT(measured(d, "waveform_to_discrete"), 0.0);
         EXPECT_LE(measured(d, "waveform_to_ceiling"), 1.1) << d.dump();
+        EXPECT_GT(measured(d, "cfd_to_peak"), 0.0);
+        // The decomposition fits what the peak timing finds: more work, never less.
+        EXPECT_GT(measured(d, "decomposition_to_peak"), 0.0);
+        EXPECT_LE(measured(d, "decomposition_to_peak"), 1.1) << d.dump();
     }
 }
 

@@ -38,6 +38,15 @@ double chi2(const Samples& v, const std::vector<Component>& c) {
     return sum;
 }
 
+// The Gaussian model's own error, relative to a sample: a stretched echo (a tilted surface) is a
+// sum of pulses, Gaussian only approximately, and at high signal-to-noise χ² would otherwise
+// split it.
+constexpr double kModelError = 0.01;
+// Without noise, the error a sample may keep: 1 % of the highest (equal echoes then separate
+// from 1.6σ_p, where the sum has one maximum below 2σ_p, and an echo stretched by up to σ_p stays
+// one component).
+constexpr double kNoiseFreeTolerance = 0.01;
+
 // At most this many components per fit (kMaxParams parameters): the matrices stay on the stack.
 constexpr std::size_t kMaxComponents = 8;
 constexpr int kMaxParams = 3 * int(kMaxComponents);
@@ -196,14 +205,21 @@ std::size_t LinearDetector::decompose(const double* counts, std::size_t n, std::
     if (found > kMaxComponents) return found;  // a busy waveform keeps its peak-timed echoes
     const double g = p_.gain_counts_per_pe, off = p_.offset_counts + g * floor_pe;
     const double thr = threshold(floor_pe), s_min = std::max(0.3, min_sigma_ns / period_ns_);
-    // Weights: 1/variance of each sample's noise; without noise, a tolerance of 1e-3 of the
-    // highest sample (the tabulated pulse is good to 2e-4 of its peak).
+    // Weights: 1/(variance of the sample's noise + the model's own error, kModelError of the
+    // sample: a stretched echo is a Gaussian only approximately); without noise a floor of
+    // kNoiseFreeTolerance of the highest sample instead of the noise. A clipped sample
+    // says only that the signal was at least full scale: weight 0 (noise-free counts are not
+    // clipped).
     Samples v;
     for (std::size_t j = 0; j < n; ++j) v.y.push_back(counts[j] - off);
-    const double tol = 1e-3 * std::max(1.0, *std::max_element(v.y.begin(), v.y.end()));
-    for (const double y : v.y) {
-        const double sd = sigma_counts(std::max(0.0, y) / g + floor_pe);
-        v.w.push_back(noisy ? 1.0 / (sd * sd + 1.0 / 12.0) : 1.0 / (tol * tol));
+    const double tol =
+        kNoiseFreeTolerance * std::max(1.0, *std::max_element(v.y.begin(), v.y.end()));
+    for (std::size_t j = 0; j < n; ++j) {
+        const double y = v.y[j], sd = sigma_counts(std::max(0.0, y) / g + floor_pe);
+        const double var =
+            (noisy ? sd * sd + 1.0 / 12.0 : tol * tol) + kModelError * kModelError * y * y;
+        const bool clipped = noisy && (counts[j] >= full_scale_ || counts[j] <= 0);
+        v.w.push_back(clipped ? 0.0 : 1.0 / var);
     }
     std::vector<Component> c;
     for (std::size_t e = 0; e < found; ++e)
@@ -211,12 +227,15 @@ std::size_t LinearDetector::decompose(const double* counts, std::size_t n, std::
                      std::clamp(echoes[e].time_ns / period_ns_ - double(j0), 0.0, double(n - 1)),
                      std::max(s_min, echoes[e].sigma_ns / period_ns_)});
     fit_sum(v, c, s_min);
-    if (drop_weak(c, thr) && !c.empty()) fit_sum(v, c, s_min);
+    // The seeds crossed the threshold already: one goes only when its neighbours took it over.
+    if (drop_weak(c, 0.5 * thr) && !c.empty()) fit_sum(v, c, s_min);
     // One more component where the residual is largest, kept when it stays above the threshold
     // and lowers χ² by more than kAddChi2 (three more parameters; ~5σ).
     constexpr double kAddChi2 = 25.0;
     double chi = chi2(v, c);
-    while (c.size() < std::min(max, kMaxComponents)) {
+    // A clipped waveform leaves its top unknown: any number of Gaussians fit there.
+    const bool clipped = std::any_of(v.w.begin(), v.w.end(), [](double w) { return w == 0; });
+    while (!clipped && c.size() < std::min(max, kMaxComponents)) {
         // A fit that explains the samples leaves χ² near its degrees of freedom; one more
         // component can only gain kAddChi2 where χ² stands well above them.
         const double dof = double(n) - 3.0 * double(c.size());

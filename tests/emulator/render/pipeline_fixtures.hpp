@@ -110,17 +110,17 @@ inline Eigen::Vector3f unit(double x, double y, double z) {
     return Eigen::Vector3d(x, y, z).normalized().cast<float>();
 }
 
-// A still sensor at the origin: pulses [0, n) 1 µs apart (FanPattern's period), noise off, one
-// thread; the points and the run's counters.
+// A still sensor at the origin: pulses [0, n) 1 µs apart (FanPattern's period), noise off unless
+// asked, one thread; the points and the run's counters.
 struct Rendered {
     std::vector<core::PointRecord> points;
     render::RenderStats stats;
 };
 inline Rendered render_still(const scene::Scene& scene, const sensor::SensorModel& sensor,
-                             std::uint64_t pulses) {
+                             std::uint64_t pulses, bool noise = false) {
     render::EmbreeRenderer r(scene);
     render::RenderOptions o;
-    o.noise = false;
+    o.noise = noise;
     o.threads = 1;
     o.duration = core::Nanos(static_cast<std::int64_t>(pulses) * 1000);
     VectorSink sink;
