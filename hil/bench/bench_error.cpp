@@ -25,10 +25,11 @@ class KeepSink : public render::PointSink {
     std::unordered_map<std::uint64_t, Sample> by_pulse;
 };
 
-// VLP-16 on the car drive, noise off, with `sub_rays` and a BVH of `quality`; its render time
-// into `secs` and, when asked, the BVH's figures into `bvh`.
+// VLP-16 on the car drive, noise off, with `sub_rays`, a BVH of `quality` and the discrete or
+// (`waveform`) the linear detector; its render time into `secs` and, when asked, the BVH's
+// figures into `bvh`.
 KeepSink render_keep(const BenchBase& base, bool quick, int sub_rays, const std::string& quality,
-                     double& secs, BvhRow* bvh = nullptr) {
+                     double& secs, BvhRow* bvh = nullptr, bool waveform = false) {
     JobInputs in = base.inputs;
     in.sensor = "vlp16";
     in.trajectory = "demo-car";
@@ -37,6 +38,7 @@ KeepSink render_keep(const BenchBase& base, bool quick, int sub_rays, const std:
     in.no_noise = true;
     in.quality = quality;
     Job job = load_job_with_scene(in, base.town, base.scene_seconds, true);
+    if (waveform) job.sensor.detector = sensor::DetectorKind::Linear;
     KeepSink keep;
     const auto st = render::render(job.setup(), keep);
     secs = st.seconds;
@@ -92,10 +94,10 @@ void compare(const KeepSink& got, const KeepSink& ref, ErrorRow& e) {
 
 void print(const ErrorRow& e) {
     fmt::print(
-        "error: {:>2} sub-rays against {}: {:.3f} s, range RMS {:.4f} m (p50 {:.2f} mm, p95 "
+        "error ({}): {:>2} sub-rays against {}: {:.3f} s, range RMS {:.4f} m (p50 {:.2f} mm, p95 "
         "{:.1f} mm; {:.2f} % on another surface, {:.2f} mm RMS on the same), intensity RMS "
         "{:.1f}, return presence differs {:.2f} %\n",
-        e.sub_rays, e.reference_sub_rays, e.seconds, e.range_rms_m, e.range_p50_m * 1e3,
+        e.detector, e.sub_rays, e.reference_sub_rays, e.seconds, e.range_rms_m, e.range_p50_m * 1e3,
         e.range_p95_m * 1e3, 100.0 * e.other_surface, e.same_surface_range_rms_m * 1e3,
         e.intensity_rms, 100.0 * e.presence_mismatch);
 }
@@ -115,32 +117,43 @@ void bench_bvh(const BenchBase& base, bool quick, BenchReport& report) {
     }
 }
 
-}  // namespace
-
-// Against a high-fidelity reference (37 sub-rays), which is itself compared with a denser render
-// (61 sub-rays) to show it converged. The BVH quality changes build and trace time but never a
-// hit, so errors are measured once per sub-ray count and the qualities get timing rows.
-void bench_errors(const BenchBase& base, bool quick, BenchReport& report) {
+// One detector's rows: 1, 7, 19 sub-rays against a high-fidelity reference (37), which is itself
+// compared with a denser render (61) to show it converged.
+void detector_errors(const BenchBase& base, bool quick, bool waveform, BenchReport& report) {
     constexpr int kReference = 37, kDense = 61;
+    const char* name = waveform ? "waveform" : "discrete";
     double ref_secs = 0;
-    const KeepSink ref = render_keep(base, quick, kReference, "medium", ref_secs);
+    const KeepSink ref =
+        render_keep(base, quick, kReference, "medium", ref_secs, nullptr, waveform);
     for (int s : {1, 7, 19}) {
         ErrorRow e;
+        e.detector = name;
         e.sub_rays = s;
         e.reference_sub_rays = kReference;
         e.reference_seconds = ref_secs;
-        compare(render_keep(base, quick, s, "medium", e.seconds), ref, e);
+        compare(render_keep(base, quick, s, "medium", e.seconds, nullptr, waveform), ref, e);
         report.errors.push_back(e);
         print(e);
     }
-    // The reference against a denser one: its own error, to compare the rows above with.
     ErrorRow conv;
+    conv.detector = name;
     conv.sub_rays = kReference;
     conv.reference_sub_rays = kDense;
     conv.seconds = ref_secs;
-    compare(ref, render_keep(base, quick, kDense, "medium", conv.reference_seconds), conv);
+    compare(ref,
+            render_keep(base, quick, kDense, "medium", conv.reference_seconds, nullptr, waveform),
+            conv);
     report.errors.push_back(conv);
     print(conv);
+}
+
+}  // namespace
+
+// Both detectors' error rows. The BVH quality changes build and trace time but never a hit, so
+// errors are measured once per sub-ray count and the qualities get timing rows.
+void bench_errors(const BenchBase& base, bool quick, BenchReport& report) {
+    detector_errors(base, quick, false, report);
+    detector_errors(base, quick, true, report);
     bench_bvh(base, quick, report);
 }
 

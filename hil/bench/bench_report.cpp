@@ -90,22 +90,25 @@ void markdown_paths(std::ostream& md, const BenchReport& r) {
 
 void markdown_errors(std::ostream& md, const BenchReport& r) {
     md << "## Run time against error (VLP-16, demo drive, noise off)\n\n"
-          "Each render against a denser reference (37 sub-rays); the last row is that "
-          "reference against 61 sub-rays, its own error.\n\n"
-          "| sub-rays | reference | time s | range RMS mm | range p50 mm | range p95 mm | "
-          "on another surface % | range RMS on the same surface mm | intensity RMS | "
+          "Each render against a denser reference of the same detector (37 sub-rays); the last "
+          "row of each detector is that reference against 61 sub-rays, its own error. The "
+          "waveform rows use the linear detector (1 GS/s, peak timing) noise-free.\n\n"
+          "| detector | sub-rays | reference | time s | range RMS mm | range p50 mm | range p95 "
+          "mm | on another surface % | range RMS on the same surface mm | intensity RMS | "
           "return presence differs % |\n"
-          "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& e : r.errors)
         md << fmt::format(
-            "| {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | {:.3f} |\n",
-            e.sub_rays, e.reference_sub_rays, fig(e.seconds), fig(e.range_rms_m * 1000.0),
-            fig(e.range_p50_m * 1000.0), fig(e.range_p95_m * 1000.0), fig(100.0 * e.other_surface),
-            fig(e.same_surface_range_rms_m * 1000.0), fig(e.intensity_rms),
-            fig(100.0 * e.presence_mismatch));
-    if (!r.errors.empty())
-        md << fmt::format("\nReference render time: {:.3f} s.\n",
-                          fig(r.errors.front().reference_seconds));
+            "| {} | {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | "
+            "{:.3f} |\n",
+            e.detector, e.sub_rays, e.reference_sub_rays, fig(e.seconds),
+            fig(e.range_rms_m * 1000.0), fig(e.range_p50_m * 1000.0), fig(e.range_p95_m * 1000.0),
+            fig(100.0 * e.other_surface), fig(e.same_surface_range_rms_m * 1000.0),
+            fig(e.intensity_rms), fig(100.0 * e.presence_mismatch));
+    for (const auto& e : r.errors)
+        if (e.reference_sub_rays == 37 && e.sub_rays == 1)
+            md << fmt::format("\nReference render time ({}): {:.3f} s.\n", e.detector,
+                              fig(e.reference_seconds));
 }
 
 double rays_per_s(const BvhRow& b) {
@@ -187,7 +190,8 @@ nlohmann::ordered_json path_json(const PathRow& p) {
 }
 
 nlohmann::ordered_json error_json(const ErrorRow& e) {
-    return {{"sub_rays", e.sub_rays},
+    return {{"detector", e.detector},
+            {"sub_rays", e.sub_rays},
             {"reference_sub_rays", e.reference_sub_rays},
             {"seconds", e.seconds},
             {"reference_seconds", e.reference_seconds},
@@ -313,16 +317,19 @@ void write_svg(const BenchReport& r, const std::string& path) {
     svg_axes(svg, p);
     for (const auto& e : r.errors) {
         if (!plotted(e)) continue;
-        // Orange: against the 37-sub-ray reference; purple: the reference against 61.
-        const char* col = e.reference_sub_rays > 37 ? "#7570b3" : "#d95f02";
+        // Against the 37-sub-ray reference: orange (discrete), green (waveform); the reference
+        // against 61: purple, light purple.
+        const bool wave = e.detector == "waveform";
+        const char* col = e.reference_sub_rays > 37 ? (wave ? "#b3a7e0" : "#7570b3")
+                                                    : (wave ? "#1b9e77" : "#d95f02");
         const double x = p.x(e.seconds), y = p.y(std::max(1e-6, e.range_rms_m * 1000.0));
         svg << fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='5' fill='{}'/>\n", x, y, col);
         svg << fmt::format("<text x='{:.1f}' y='{:.1f}'>{} rays</text>\n", x + 7, y - 4,
                            e.sub_rays);
     }
     svg << fmt::format(
-        "<text x='{}' y='18'>VLP-16 run time vs range error (orange: against 37 sub-rays, purple: "
-        "37 against 61)</text>\n</svg>\n",
+        "<text x='{}' y='18'>VLP-16 run time vs range error (against 37 sub-rays: orange "
+        "discrete, green waveform; 37 against 61: purple)</text>\n</svg>\n",
         Plot::L);
 }
 

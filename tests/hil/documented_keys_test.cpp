@@ -236,6 +236,7 @@ std::vector<KeyCase> cases() {
         {"receiver.path_energy_threshold", material("reflectance: 0.5, transmission: 0.3"),
          material("reflectance: 0.5, transmission: 0.3"), kVlp16,
          kVlp16 + "receiver: {path_energy_threshold: 0.5}\n"},
+        {"receiver.speckle_cells", "", "", kVlp16, kVlp16 + "receiver: {speckle_cells: 2}\n"},
         {"receiver.overlap_range_m", "", "", kLinear, kLinear + "receiver: {overlap_range_m: 20}\n",
          "--lidar-ratio 20 --visibility-km 0.3"},
         {"noise.range_sigma_m", "", "", kVlp16, kVlp16 + "noise: {range_sigma_m: 0.1}\n"},

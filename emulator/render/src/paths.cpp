@@ -109,12 +109,19 @@ void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScra
         p.code.push_back(code);
         p.pulse.push_back(q.pulse);
     };
-    if (m.transmission > 0.0) {
+    double tau = m.transmission, mirror = m.mirror;
+    if (m.refractive_index > 0.0) {  // glass: Fresnel at this hit's incidence (§5)
+        const double cos_i = std::abs(ray.dx * h.nx + ray.dy * h.ny + ray.dz * h.nz);
+        const double r = scene::face_reflectance(m.refractive_index, cos_i);
+        tau = (1 - r) * (1 - r);
+        mirror = 1 - tau;
+    }
+    if (tau > 0.0) {
         Ray t = ray;
         t.tnear = static_cast<float>(seg) + kStep_m;
-        add(t, m.transmission, q.base, 1);
+        add(t, tau, q.base, 1);
     }
-    if (m.mirror > 0.0) {
+    if (mirror > 0.0) {
         const float dn = ray.dx * h.nx + ray.dy * h.ny + ray.dz * h.nz;
         const auto f = static_cast<float>(seg);
         Ray r;
@@ -125,7 +132,7 @@ void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScra
         r.dy = ray.dy - 2 * dn * h.ny;
         r.dz = ray.dz - 2 * dn * h.nz;
         r.tnear = kStep_m;
-        add(r, m.mirror, h.t, 2);
+        add(r, mirror, h.t, 2);
     }
 }
 

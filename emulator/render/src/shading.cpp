@@ -8,6 +8,7 @@
 #include "mirage/core/error.hpp"
 #include "mirage/core/exp_poly.hpp"
 #include "mirage/core/rng.hpp"
+#include "mirage/physics/speckle.hpp"
 
 namespace mirage::render {
 namespace {
@@ -140,6 +141,7 @@ PulseShader::PulseShader(const Setup& setup)
         if (sensor_.linear.timing == sensor::EchoTiming::ConstantFraction)
             cfd_offset_ns_ = calibrate_cfd();
     }
+    speckle_m_ = sensor::speckle_cells(sensor_);
     check_recording();
     init_volume();
 }
@@ -167,14 +169,20 @@ double PulseShader::energy_factor(std::uint64_t pulse) const {
     return std::max(0.0, 1.0 + sigma * rng.normal());
 }
 
-// The discrete detector's pending returns scaled by their pulse's energy factor.
-void PulseShader::vary_energy(std::uint64_t first, ShadeScratch& scratch) const {
-    if (!(sensor_.beam.energy_sigma > 0.0)) return;
+// The discrete detector's pending returns scaled by their pulse's energy factor and, with
+// speckle, each by its own factor, drawn in return order from the pulse's stream 4.
+void PulseShader::vary_returns(std::uint64_t first, ShadeScratch& scratch) const {
+    const bool speckle = speckle_on();
+    if (!(sensor_.beam.energy_sigma > 0.0) && !speckle) return;
     std::uint32_t last = 0xFFFFFFFFu;
     double f = 1.0;
+    std::optional<core::PulseRng> rng;
     for (PendingReturn& p : scratch.pending) {
-        if (p.i != last) f = energy_factor(first + (last = p.i));
-        p.power_w *= f;
+        if (p.i != last) {
+            f = energy_factor(first + (last = p.i));
+            if (speckle) rng.emplace(opt_.seed, first + p.i, kSpeckleStream);
+        }
+        p.power_w *= speckle ? f * physics::speckle_factor(*rng, speckle_m_) : f;
     }
 }
 
@@ -204,7 +212,7 @@ void PulseShader::shade(const RayBatch& g, std::vector<Hit>& hits,
     else
         clustered_returns(g, hits, rays, terms, k, scratch, out.stats);
     out.stats.rays += own;
-    if (!linear_) vary_energy(g.first, scratch);  // the waveform detector's: per arrival
+    if (!linear_) vary_returns(g.first, scratch);  // the waveform detector's: per arrival
     draw(g.first, scratch);
     electrons(g, scratch);
     detect(hits, scratch);

@@ -96,6 +96,7 @@ struct SampleGroup {
 // Philox stream of each pulse's energy factor (0: discrete returns, 1: waveform noise, 2: the
 // paths' roulette).
 inline constexpr std::uint32_t kEnergyStream = 3;
+inline constexpr std::uint32_t kSpeckleStream = 4;  // each return's speckle factor, in order
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
 inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
@@ -260,7 +261,10 @@ class PulseShader {
     void check_recording() const;
     // The pulse's energy relative to the sensor's (beam.energy_sigma; 1 when it is 0).
     double energy_factor(std::uint64_t pulse) const;
-    void vary_energy(std::uint64_t first, ShadeScratch& scratch) const;
+    void vary_returns(std::uint64_t first, ShadeScratch& scratch) const;
+    // Speckle applies with noise on, when the sensor has speckle cells (time-resolved.md §6).
+    bool speckle_on() const { return opt_.noise && speckle_m_ >= 1.0; }
+    void scale_group(const SampleGroup& g, double factor, ShadeScratch& scratch) const;
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
     bool continues(const Hit& h) const;
@@ -326,6 +330,7 @@ class PulseShader {
     // Constant-fraction timing: the emitted pulse's own delay from its leading edge at the
     // fraction to its centroid, added to every edge so a lone echo is timed as its peak.
     double cfd_offset_ns_ = 0;
+    double speckle_m_ = 0;  // speckle cells M, 0: none
 };
 
 }  // namespace mirage::render

@@ -4,9 +4,11 @@
 // waveform digitised counts (noise drawn from the pulse's stream 1) and the counts echoes.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/rng.hpp"
+#include "mirage/physics/speckle.hpp"
 #include "shading.hpp"
 
 namespace mirage::render {
@@ -148,12 +150,21 @@ void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
     if (opt_.waveform_samples > 0) scratch.record.assign(opt_.waveform_samples, NAN);
     scratch.echoes.resize(kMaxEchoes);
     std::size_t found = 0;
+    std::optional<core::PulseRng> speckle;  // one factor per group: per surface, nearly
+    if (speckle_on()) speckle.emplace(opt_.seed, pulse, kSpeckleStream);
     for (const SampleGroup& g : scratch.groups) {
         if (found >= kMaxEchoes) break;
+        if (speckle) scale_group(g, physics::speckle_factor(*speckle, speckle_m_), scratch);
         detect_group(pulse, g, floor_pe, block, found, scratch);
     }
     scratch.echoes.resize(found);
     scratch.next_block = block;
+}
+
+// The arrivals of group g times `factor` (its speckle).
+void PulseShader::scale_group(const SampleGroup& g, double factor, ShadeScratch& scratch) const {
+    for (std::size_t k = g.a; k < g.b; ++k)
+        scratch.arrivals[k].pe = static_cast<float>(scratch.arrivals[k].pe * factor);
 }
 
 // One group's expected waveform, digitised (noise from Philox block `block` on) and searched for

@@ -91,6 +91,10 @@ std::string describe(const SensorModel& m) {
         rx.threshold_gamma, rx.min_range_m, rx.max_range_m, rx.range_resolution_m, rx.max_returns);
     out += fmt::format("  link: 10% Lambertian at {:.1f} m -> {:.0f} photo-electrons\n",
                        rx.max_range_m, lambertian_electrons(b, rx, 0.1, rx.max_range_m));
+    if (rx.speckle_cells != 0)
+        out += fmt::format("  speckle: {:.1f} cells{} (contrast {:.3f})\n", speckle_cells(m),
+                           rx.speckle_cells == kSpeckleAuto ? " from aperture and spot" : "",
+                           1 / std::sqrt(speckle_cells(m)));
     out += fmt::format("  noise: range sigma {:.4f} m, jitter sigma {:.4f} mrad\n",
                        m.noise.range_sigma_m, m.noise.jitter_sigma_rad * 1e3);
     if (m.detector == DetectorKind::Linear) {

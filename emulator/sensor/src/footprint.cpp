@@ -68,4 +68,11 @@ std::vector<SubRay> footprint(int n, BeamProfile profile, double divergence_rad,
     return out;
 }
 
+double speckle_cells(const SensorModel& m) {
+    if (m.receiver.speckle_cells != kSpeckleAuto) return m.receiver.speckle_cells;
+    const double x = std::numbers::pi * m.receiver.aperture_diameter_m *
+                     (0.5 * m.beam.divergence_rad) / (2 * m.beam.wavelength_m);
+    return 1 + x * x;
+}
+
 }  // namespace mirage::sensor

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include "mirage/core/error.hpp"
@@ -286,6 +287,25 @@ TEST(SensorYaml, detector_timing_and_cfd_fraction) {
     EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, timing: constant_fraction, "
                        "cfd_fraction: 1}\n"),
               "detector.cfd_fraction: 1 is outside [0.01, 0.99]");
+}
+
+// `receiver.speckle_cells`: a number of cells ≥ 1, 0 for none, or `auto`, which takes M from the
+// aperture and the spot: 1 + (π·D·θ_b/(2λ))² (VLP-16: 25 mm, 1.5 mrad, 905 nm -> 4237.5).
+TEST(SensorYaml, speckle_cells_is_a_number_zero_or_auto) {
+    test::TempDir dir;
+    const auto load = [&](const std::string& text) {
+        return load_sensor_yaml(write(dir, "s.yaml", "base: vlp16\n" + text));
+    };
+    EXPECT_EQ(speckle_cells(preset("vlp16")), 0.0);
+    EXPECT_EQ(speckle_cells(load("receiver: {speckle_cells: 4}\n")), 4.0);
+    EXPECT_EQ(speckle_cells(load("receiver: {speckle_cells: 0}\n")), 0.0);
+    const double x = std::numbers::pi * 0.025 * 1.5e-3 / (2 * 905e-9);
+    EXPECT_NEAR(speckle_cells(load("receiver: {speckle_cells: auto}\n")), 1 + x * x, 1e-9);
+    EXPECT_NEAR(1 + x * x, 4237.5, 0.1);
+    EXPECT_EQ(error_of("base: vlp16\nreceiver: {speckle_cells: 0.5}\n"),
+              "receiver.speckle_cells: 0.5 is outside [1, 1e+09]");
+    EXPECT_EQ(error_of("base: vlp16\nreceiver: {speckle_cells: many}\n"),
+              "receiver.speckle_cells: expected a number, got 'many'");
 }
 
 TEST(SensorYaml, resolve_takes_a_preset_name_or_a_file) {

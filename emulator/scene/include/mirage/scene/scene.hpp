@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -20,7 +22,8 @@ struct Material {
     // Paths beyond the first hit (docs/time-resolved.md §5): the fraction a thin surface passes
     // on in the same direction (a leaf's transmittance), the fraction it reflects as a perfect
     // mirror, and for glass the refractive index n (0: not glass), which sets both for a pane:
-    // transmission (1 − R)², mirror 1 − (1 − R)², with R = ((n − 1)/(n + 1))² per face.
+    // transmission (1 − R)², mirror 1 − (1 − R)², with R = ((n − 1)/(n + 1))² per face square to
+    // the light (the values kept here); a path takes R at its own incidence (face_reflectance).
     double transmission = 0.0;
     double mirror = 0.0;
     double refractive_index = 0.0;
@@ -33,6 +36,17 @@ struct Material {
 
 // Fresnel reflectance of one face at normal incidence, ((n − 1)/(n + 1))².
 inline double face_reflectance(double n) { return ((n - 1) / (n + 1)) * ((n - 1) / (n + 1)); }
+
+// Fresnel reflectance of one face, air to index n, for unpolarised light arriving at cos θ_i:
+// (R_s + R_p)/2 with cos θ_t from Snell's law (docs/time-resolved.md §5). The pane's second face
+// meets the light at θ_t from inside and reflects as much. ((n − 1)/(n + 1))² square to it.
+inline double face_reflectance(double n, double cos_i) {
+    cos_i = std::clamp(cos_i, 0.0, 1.0);
+    const double sin_t = std::sqrt(1 - cos_i * cos_i) / n, cos_t = std::sqrt(1 - sin_t * sin_t);
+    const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t);
+    const double rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
 
 // Triangle mesh in float32, coordinates relative to the scene anchor (or to its instance frame).
 struct Mesh {

@@ -61,7 +61,11 @@ struct ReceiverParams {
     // Transmitter–receiver overlap O(R) = 1 − exp(−(R/R_o)²) with this R_o (0: full overlap
     // everywhere); weighs the atmosphere's volume backscatter (docs/time-resolved.md §6).
     double overlap_range_m = 0.0;
+    // Speckle (docs/time-resolved.md §6): M of the Gamma law of each return's energy; 0: none;
+    // kSpeckleAuto: M from the aperture, the beam's divergence and the wavelength.
+    double speckle_cells = 0.0;
 };
+inline constexpr double kSpeckleAuto = -1.0;
 
 // Measurement noise (docs/physics.md eqs. (14)–(15)).
 struct NoiseParams {
@@ -152,6 +156,11 @@ struct SensorModel {
 // Built-in presets: vlp16, vlp16-hires, vlp32c, hdl32e, hdl64e-s3, os<P>-<H>-<W>x<F> (Ouster
 // P ∈ {0, 1, 2}, H ∈ {32, 64, 128}, W ∈ {512, 1024, 2048}, F ∈ {10, 20}), and airborne presets
 // als-mirror (sawtooth, default), als-mirror-sine, als-polygon, als-palmer.
+// The speckle cells M a sensor's returns have (docs/time-resolved.md §6): receiver.speckle_cells,
+// or for kSpeckleAuto 1 + A_rx·A_spot/(λR)² = 1 + (π·D·θ_b/(2λ))² (aperture D, the beam's 1/e²
+// half-angle θ_b, its spot R·θ_b; R cancels); 0 for none.
+double speckle_cells(const SensorModel& m);
+
 std::vector<std::string> preset_names();
 SensorModel preset(const std::string& name);            // throws ConfigError if unknown
 SensorModel load_sensor_yaml(const std::string& path);  // throws ConfigError with key path
