@@ -37,6 +37,22 @@ std::vector<double> split_numbers(const std::string& text, const std::string& wh
     return out;
 }
 
+// --cn2: empty (none), hv57, or one Cn² in [0, 1e-10] m^(−2/3) (beyond, weak-turbulence theory
+// and this model have long failed).
+physics::Turbulence turbulence_of(const std::string& text) {
+    physics::Turbulence t;
+    if (text.empty()) return t;
+    if (text == "hv57") {
+        t.hufnagel_valley = true;
+        return t;
+    }
+    const std::vector<double> v = split_numbers(text, "--cn2");
+    if (v.size() != 1 || v[0] < 0 || v[0] > 1e-10)
+        throw ConfigError("--cn2: '" + text + "' is not hv57 or one Cn² in [0, 1e-10] m^(-2/3)");
+    t.cn2 = v[0];
+    return t;
+}
+
 bool is_demo_scene(const std::string& spec) {
     return spec == "demo" || spec.rfind("demo:", 0) == 0;
 }
@@ -141,6 +157,10 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
                    "backscatter β = α/S into waveforms (fog ~20, haze ~50; linear detector)")
         ->check(CLI::Range(0.0, 1e4))
         ->capture_default_str();
+    app.add_option("--cn2", in.cn2,
+                   "Turbulence: Cn² in m^(-2/3) along every path (1e-15 weak … 1e-13 strong), or "
+                   "hv57 for the Hufnagel-Valley 5/7 profile by height above z = 0; each pulse's "
+                   "beam wanders (with noise on)");
     app.add_option("--sun-elevation-deg", in.sun_elevation_deg,
                    "Sun elevation; ≤ 0 is night (no background)")
         ->capture_default_str();
@@ -251,6 +271,7 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
                                         in.visibility_km * 1000.0, job.sensor.beam.wavelength_m);
     job.env.lidar_ratio_sr = in.lidar_ratio_sr;
     job.env.atmosphere.scale_height_m = in.scale_height_km * 1e3;
+    job.env.turbulence = turbulence_of(in.cn2);
     job.env.sun.elevation_rad = in.sun_elevation_deg * kDeg;
     job.env.sun.azimuth_rad = in.sun_azimuth_deg * kDeg;
     job.env.sun.irradiance_w_m2_um = in.solar_irradiance;

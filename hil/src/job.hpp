@@ -32,6 +32,7 @@ struct JobInputs {
     double extinction_per_km = -1;  // overrides visibility when ≥ 0
     double lidar_ratio_sr = 0;      // > 0: the atmosphere's volume backscatter in waveforms
     double scale_height_km = 0;     // > 0: α(z) = α·exp(−z/H) above the scene's z = 0
+    std::string cn2;                // turbulence: Cn² in m^(−2/3), or hv57; empty: none
     double sun_elevation_deg = 45.0;
     double sun_azimuth_deg = 180.0;
     double solar_irradiance = 700.0;  // W/(m²·µm) normal to the sun

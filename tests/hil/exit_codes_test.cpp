@@ -34,6 +34,8 @@ std::vector<Command> commands(const TempDir& tmp) {
          {{"--out " + las + " --bogus", 2, "--bogus"},
           {"--out " + las + " --threads abc", 2, "--threads"},
           {"--out " + las + " --sensor no-such-sensor", 2, "no-such-sensor"},
+          {"--out " + las + " --cn2 strong", 2, "--cn2"},
+          {"--out " + las + " --cn2 1", 2, "--cn2"},
           {"--out /dev/null/x.las --duration 0.05", 1, "/dev/null/x.las"}}},
         {"demo",
          {{"--bogus", 2, "--bogus"},

@@ -13,8 +13,8 @@ std::vector<physics::Arrival> pulse_arrivals(const Setup& setup, std::uint64_t p
     const PulseShader shader(setup);
     RayBatch g;
     builder.build(pulse, 1, g);
-    std::vector<Hit> hits(g.rays.size());
-    setup.renderer.intersect(g.rays, hits);
+    std::vector<Hit> hits;
+    shader.trace(g, hits);
     ShadeScratch scratch;
     shader.ray_terms(g, hits, scratch);
     std::vector<physics::Arrival> out;

@@ -49,13 +49,13 @@ class RayBatchBuilder {
     const std::vector<sensor::SubRay>& subrays() const { return subrays_; }
 
     // Pulses [first, first + n) in batches of trace_batch_pulses() counted from `first`, in
-    // order: each is built into `g` and handed to fn(g). The one place where batch boundaries
-    // are decided.
+    // order: each is built into `g` and handed to fn(g), which may turn its rays (beam wander).
+    // The one place where batch boundaries are decided.
     template <class Fn>
     void for_each_batch(std::uint64_t first, std::size_t n, RayBatch& g, Fn&& fn) const {
         for (std::size_t done = 0; done < n; done += batch_) {
             build(first + done, std::min(batch_, n - done), g);
-            fn(static_cast<const RayBatch&>(g));
+            fn(g);
         }
     }
 

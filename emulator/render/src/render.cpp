@@ -19,7 +19,6 @@ namespace {
 // What every worker of one render() call shares (read-only but for the queue and the sink's
 // thread-safe encode()).
 struct Run {
-    const Renderer& renderer;
     const RayBatchBuilder& builder;
     const PulseShader& shader;
     PointSink& sink;
@@ -39,10 +38,9 @@ struct WorkerBuffers {
 // between threads) spans several, so threads wake less often.
 void render_chunk(const Run& run, std::uint64_t c, WorkerBuffers& w, ChunkResult& result) {
     StageClock clock;
-    run.builder.for_each_batch(run.plan.first(c), run.plan.size(c), w.g, [&](const RayBatch& g) {
-        w.hits.resize(g.rays.size());
+    run.builder.for_each_batch(run.plan.first(c), run.plan.size(c), w.g, [&](RayBatch& g) {
         clock.lap(StageClock::kRays);
-        run.renderer.intersect(g.rays, w.hits);
+        run.shader.trace(g, w.hits);
         clock.lap(StageClock::kTrace);
         run.shader.shade(g, w.hits, run.builder.subrays(), w.scratch, result.shaded);
         clock.lap(StageClock::kShade);
@@ -149,8 +147,7 @@ RenderStats render(const Setup& setup, PointSink& sink, const ProgressFn& progre
                                      ? opt.window_chunks
                                      : static_cast<std::uint64_t>(plan.threads) * 2 + 2;
     ChunkQueue queue(plan.chunks(), window, stop);
-    const Run run{setup.renderer, builder, shader, sink, sink.new_encoded() != nullptr,
-                  plan,           queue};
+    const Run run{builder, shader, sink, sink.new_encoded() != nullptr, plan, queue};
 
     std::vector<std::thread> pool;
     pool.reserve(static_cast<std::size_t>(plan.threads));

@@ -97,6 +97,7 @@ struct SampleGroup {
 // paths' roulette).
 inline constexpr std::uint32_t kEnergyStream = 3;
 inline constexpr std::uint32_t kSpeckleStream = 4;  // each return's speckle factor, in order
+inline constexpr std::uint32_t kWanderStream = 5;   // the beam's wander, two normals
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
 inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
@@ -173,6 +174,9 @@ class PulseShader {
     explicit PulseShader(const Setup& setup);
 
     // `hits` (the batch's, one per ray) gains the hits of the paths' continuations.
+    // The batch's first hits into `hits`; with turbulence (and noise on) each pulse's beam is
+    // first turned by its wander and traced again (beam_wander.cpp).
+    void trace(RayBatch& g, std::vector<Hit>& hits) const;
     void shade(const RayBatch& g, std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                ShadedPoints& out) const;
@@ -265,6 +269,8 @@ class PulseShader {
     // Speckle applies with noise on, when the sensor has speckle cells (time-resolved.md §6).
     bool speckle_on() const { return opt_.noise && speckle_m_ >= 1.0; }
     void scale_group(const SampleGroup& g, double factor, ShadeScratch& scratch) const;
+    // beam_wander.cpp: each pulse's beam turned by the turbulence's wander at its first range.
+    void wander(RayBatch& g, const std::vector<Hit>& hits) const;
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
     bool continues(const Hit& h) const;

@@ -30,9 +30,8 @@ void WindowRenderer::render(const core::Trajectory& trajectory, std::uint64_t fi
     m.result.points.swap(out);
     m.result.samples.clear();
     m.result.stats = {};
-    builder.for_each_batch(first, n, m.g, [&](const RayBatch& g) {
-        m.hits.resize(g.rays.size());
-        m.setup.renderer.intersect(g.rays, m.hits);
+    builder.for_each_batch(first, n, m.g, [&](RayBatch& g) {
+        m.shader.trace(g, m.hits);
         m.shader.shade(g, m.hits, builder.subrays(), m.scratch, m.result);
     });
     m.result.points.swap(out);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <numbers>
 
+#include "mirage/physics/turbulence.hpp"
 #include "mirage/scene/scene.hpp"
 #include "mirage/sensor/sensor.hpp"
 
@@ -66,6 +67,8 @@ struct Environment {
     // Volume backscatter in waveforms (docs/time-resolved.md §6): β = α/S with this lidar ratio
     // S (sr); 0: none.
     double lidar_ratio_sr = 0.0;
+    // Beam wander of every pulse (docs/time-resolved.md §6); off by default.
+    Turbulence turbulence;
 };
 
 // Monostatic BRDF value (sr⁻¹) of a material seen from the source direction at incidence
