@@ -196,72 +196,69 @@ std::vector<Component> with_one_more(const Samples& v, const std::vector<Compone
     return best;
 }
 
-}  // namespace
-
-std::size_t LinearDetector::decompose(const double* counts, std::size_t n, std::int64_t j0,
-                                      double floor_pe, bool noisy, double min_sigma_ns,
-                                      Echo* echoes, std::size_t found, std::size_t max) const {
-    if (found == 0 || n == 0 || max == 0) return 0;
-    if (found > kMaxComponents) return found;  // a busy waveform keeps its peak-timed echoes
-    const double g = p_.gain_counts_per_pe, off = p_.offset_counts + g * floor_pe;
-    const double thr = threshold(floor_pe), s_min = std::max(0.3, min_sigma_ns / period_ns_);
-    // Weights: 1/(variance of the sample's noise + the model's own error, kModelError of the
-    // sample: a stretched echo is a Gaussian only approximately); without noise a floor of
-    // kNoiseFreeTolerance of the highest sample instead of the noise. A clipped sample
-    // says only that the signal was at least full scale: weight 0 (noise-free counts are not
-    // clipped).
+// The samples above the baseline `off` and their weights: 1/(variance of the sample's noise +
+// the model's own error, kModelError of the sample: a stretched echo is a Gaussian only
+// approximately); without noise a floor of kNoiseFreeTolerance of the highest sample instead of
+// the noise. A clipped sample says only that the signal was at least full scale: weight 0
+// (noise-free counts are not clipped).
+Samples weighed(const LinearDetector& d, const double* counts, std::size_t n, double off,
+                double floor_pe, bool noisy) {
+    const double g = d.params().gain_counts_per_pe, full = std::ldexp(1.0, d.params().bits) - 1;
     Samples v;
     for (std::size_t j = 0; j < n; ++j) v.y.push_back(counts[j] - off);
     const double tol =
         kNoiseFreeTolerance * std::max(1.0, *std::max_element(v.y.begin(), v.y.end()));
     for (std::size_t j = 0; j < n; ++j) {
-        const double y = v.y[j], sd = sigma_counts(std::max(0.0, y) / g + floor_pe);
+        const double y = v.y[j], sd = d.sigma_counts(std::max(0.0, y) / g + floor_pe);
         const double var =
             (noisy ? sd * sd + 1.0 / 12.0 : tol * tol) + kModelError * kModelError * y * y;
-        const bool clipped = noisy && (counts[j] >= full_scale_ || counts[j] <= 0);
+        const bool clipped = noisy && (counts[j] >= full || counts[j] <= 0);
         v.w.push_back(clipped ? 0.0 : 1.0 / var);
     }
-    std::vector<Component> c;
-    for (std::size_t e = 0; e < found; ++e)
-        c.push_back({echoes[e].amplitude_counts,
-                     std::clamp(echoes[e].time_ns / period_ns_ - double(j0), 0.0, double(n - 1)),
-                     std::max(s_min, echoes[e].sigma_ns / period_ns_)});
-    fit_sum(v, c, s_min);
-    // The seeds crossed the threshold already: one goes only when its neighbours took it over.
-    if (drop_weak(c, 0.5 * thr) && !c.empty()) fit_sum(v, c, s_min);
-    // One more component where the residual is largest, kept when it stays above the threshold
-    // and lowers χ² by more than kAddChi2 (three more parameters; ~5σ).
+    return v;
+}
+
+// Components added one at a time where the residual is largest, each kept when all stay above
+// the threshold and χ² falls by more than kAddChi2 (three more parameters; ~5σ); at most `max`.
+void add_components(const Samples& v, std::vector<Component>& c, double s_min, double thr,
+                    std::size_t max) {
     constexpr double kAddChi2 = 25.0;
-    double chi = chi2(v, c);
     // A clipped waveform leaves its top unknown: any number of Gaussians fit there.
-    const bool clipped = std::any_of(v.w.begin(), v.w.end(), [](double w) { return w == 0; });
-    while (!clipped && c.size() < std::min(max, kMaxComponents)) {
+    if (std::any_of(v.w.begin(), v.w.end(), [](double w) { return w == 0; })) return;
+    double chi = chi2(v, c);
+    while (c.size() < max) {
         // A fit that explains the samples leaves χ² near its degrees of freedom; one more
         // component can only gain kAddChi2 where χ² stands well above them.
-        const double dof = double(n) - 3.0 * double(c.size());
-        if (chi < kAddChi2 || chi - dof < 0.5 * kAddChi2) break;
+        const double dof = double(v.y.size()) - 3.0 * double(c.size());
+        if (chi < kAddChi2 || chi - dof < 0.5 * kAddChi2) return;
         const std::size_t j = most_unexplained(v, c);
-        if (j == n) break;
+        if (j == v.y.size()) return;
         std::vector<Component> more = with_one_more(v, c, j, s_min, thr);
-        if (more.empty()) break;  // no start kept a new component: the residual is no echo
+        if (more.empty()) return;  // no start kept a new component: the residual is no echo
         const double chi_more = chi2(v, more);
-        if (!(chi - chi_more > kAddChi2)) break;
+        if (!(chi - chi_more > kAddChi2)) return;
         c = std::move(more);
         chi = chi_more;
     }
+}
+
+// The components, in time order, as echoes from sample j0 on a clock of `period` ns: photo-
+// electrons A·s·√(2π)/g, deviation the fit's RMS residual over t ± 3s.
+void write_echoes(const Samples& v, std::vector<Component>& c, std::int64_t j0, double period,
+                  double g, Echo* out) {
     std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
-    const double root_2pi = std::sqrt(2 * std::numbers::pi);
+    const double n = double(v.y.size()), root_2pi = std::sqrt(2 * std::numbers::pi);
     for (std::size_t k = 0; k < c.size(); ++k) {
-        Echo& e = echoes[k];
+        Echo& e = out[k];
         e = Echo{};
-        e.time_ns = (double(j0) + c[k].t) * period_ns_;
+        e.time_ns = (double(j0) + c[k].t) * period;
         e.amplitude_counts = c[k].a;
-        e.sigma_ns = c[k].s * period_ns_;
+        e.sigma_ns = c[k].s * period;
         e.pe = c[k].a * c[k].s * root_2pi / g;
-        const auto lo = static_cast<std::size_t>(
-            std::clamp(std::floor(c[k].t - 3 * c[k].s), 0.0, double(n - 1)));
+        const auto lo =
+            static_cast<std::size_t>(std::clamp(std::floor(c[k].t - 3 * c[k].s), 0.0, n - 1));
         const auto hi = static_cast<std::size_t>(
-            std::clamp(std::ceil(c[k].t + 3 * c[k].s) + 1, double(lo + 1), double(n)));
+            std::clamp(std::ceil(c[k].t + 3 * c[k].s) + 1, double(lo + 1), n));
         double sum = 0;
         for (std::size_t j = lo; j < hi; ++j) {
             const double r = v.y[j] - model_at(c, double(j));
@@ -271,6 +268,28 @@ std::size_t LinearDetector::decompose(const double* counts, std::size_t n, std::
         e.first = j0 + static_cast<std::int64_t>(lo);
         e.end = j0 + static_cast<std::int64_t>(hi);
     }
+}
+
+}  // namespace
+
+std::size_t LinearDetector::decompose(const double* counts, std::size_t n, std::int64_t j0,
+                                      double floor_pe, bool noisy, double min_sigma_ns,
+                                      Echo* echoes, std::size_t found, std::size_t max) const {
+    if (found == 0 || n == 0 || max == 0) return 0;
+    if (found > kMaxComponents) return found;  // a busy waveform keeps its peak-timed echoes
+    const double g = p_.gain_counts_per_pe, off = p_.offset_counts + g * floor_pe;
+    const double thr = threshold(floor_pe), s_min = std::max(0.3, min_sigma_ns / period_ns_);
+    const Samples v = weighed(*this, counts, n, off, floor_pe, noisy);
+    std::vector<Component> c;
+    for (std::size_t e = 0; e < found; ++e)
+        c.push_back({echoes[e].amplitude_counts,
+                     std::clamp(echoes[e].time_ns / period_ns_ - double(j0), 0.0, double(n - 1)),
+                     std::max(s_min, echoes[e].sigma_ns / period_ns_)});
+    fit_sum(v, c, s_min);
+    // The seeds crossed the threshold already: one goes only when its neighbours took it over.
+    if (drop_weak(c, 0.5 * thr) && !c.empty()) fit_sum(v, c, s_min);
+    add_components(v, c, s_min, thr, std::min(max, kMaxComponents));
+    write_echoes(v, c, j0, period_ns_, g, echoes);
     return c.size();
 }
 
