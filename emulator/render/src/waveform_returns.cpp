@@ -198,10 +198,10 @@ void PulseShader::detect_group(std::uint64_t pulse, const SampleGroup& g, double
 void PulseShader::time_echoes(const SampleGroup& g, double baseline, std::size_t from,
                               std::size_t to, ShadeScratch& scratch) const {
     const auto& p = linear_->params();
+    if (p.timing == sensor::EchoTiming::Decomposition) return;
     const auto n = static_cast<std::size_t>(g.j1 - g.j0);
     for (std::size_t e = from; e < to; ++e) {
         physics::Echo& echo = scratch.echoes[e];
-        if (p.timing == sensor::EchoTiming::Decomposition) continue;
         echo.deviation = fit_deviation(echo, g.j0, baseline, scratch);
         if (p.timing == sensor::EchoTiming::ConstantFraction) {
             const double edge = linear_->leading_edge_ns(scratch.counts.data(), n, g.j0, baseline,
