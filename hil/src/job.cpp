@@ -137,6 +137,10 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
         ->capture_default_str();
     app.add_option("--sub-rays", in.sub_rays,
                    "Footprint sub-rays per pulse: 1, 7, 19, 37 (0 = sensor's)");
+    app.add_option("--footprint", in.footprint,
+                   "sampled: trace every sub-ray; adaptive: probes first, a footprint on one plane "
+                   "in closed form (default: the sensor's beam.footprint)")
+        ->check(CLI::IsMember({"sampled", "adaptive"}));
     app.add_option("--max-returns", in.max_returns, "Returns kept per pulse, 1-8 (0 = sensor's)")
         ->check(CLI::Range(0, sensor::kMaxReturns));
     app.add_flag("--no-noise", in.no_noise, "Disable range noise, jitter and detector noise");
@@ -203,6 +207,7 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
                                 job.sensor.beam.divergence_rad);
         job.sensor.beam.sub_rays = in.sub_rays;
     }
+    if (!in.footprint.empty()) job.sensor.beam.adaptive_footprint = in.footprint == "adaptive";
     if (in.max_returns > 0) job.sensor.receiver.max_returns = in.max_returns;
 
     // Time of the first pulse and how long to render.

@@ -24,8 +24,9 @@ struct JobInputs {
     std::string start;     // UTC/GPS time of pulse 0; empty = trajectory start
     std::uint64_t seed = 1;
     int threads = 0;
-    int sub_rays = 0;     // 0 = the sensor's own
-    int max_returns = 0;  // 0 = the sensor's own
+    int sub_rays = 0;       // 0 = the sensor's own
+    std::string footprint;  // sampled | adaptive; empty = the sensor's own
+    int max_returns = 0;    // 0 = the sensor's own
     bool no_noise = false;
     std::string quality = "medium";  // BVH: low | medium | high
     double visibility_km = 23.0;

@@ -196,6 +196,8 @@ std::vector<KeyCase> cases() {
         {"beam.energy_sigma", "", "", kVlp16, kVlp16 + "beam: {energy_sigma: 0.2}\n"},
         {"beam.footprint_radius", "", "", kVlp16 + "beam: {sub_rays: 7}\n",
          kVlp16 + "beam: {sub_rays: 7, footprint_radius: 2}\n"},
+        {"beam.footprint", "", "", kVlp16 + "beam: {sub_rays: 19}\n",
+         kVlp16 + "beam: {sub_rays: 19, footprint: adaptive}\n"},
         {"detector.type", "", "", kVlp16, kLinear},
         {"detector.sample_rate_gsps", "", "", kLinear, linear("sample_rate_gsps: 2")},
         {"detector.bits", "", "", kLinear, linear("bits: 8")},

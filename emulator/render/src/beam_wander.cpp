@@ -9,14 +9,6 @@
 
 namespace mirage::render {
 
-void PulseShader::trace(RayBatch& g, std::vector<Hit>& hits) const {
-    hits.resize(g.rays.size());
-    renderer_.intersect(g.rays, hits);
-    if (!opt_.noise || !env_.turbulence.on() || g.specs.empty()) return;
-    wander(g, hits);
-    renderer_.intersect(g.rays, hits);
-}
-
 // Pulse i's beam turned by two normals of its stream 5 times σ = √(⟨r_c²⟩/2)/L per axis, L the
 // central ray's first range (the gate's end for a miss), the beam leaving through the receiver's
 // aperture (w0 = D/2, a coaxial transceiver); its sub-rays turn with it.

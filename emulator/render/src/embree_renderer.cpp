@@ -273,7 +273,10 @@ struct EmbreeRenderer::Impl {
         }
     }
 
-    void trace_packets(std::span<const Ray> rays, std::span<Hit> hits) const {
+    // Packets of 16: ray at(k) of k < count, its hit into hits[at(k)].
+    template <class At>
+    void trace_packets(std::span<const Ray> rays, std::size_t count, At at,
+                       std::span<Hit> hits) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers group neighbouring rays
@@ -286,19 +289,20 @@ struct EmbreeRenderer::Impl {
             rh.ray.id[k] = static_cast<unsigned>(k);
             rh.ray.flags[k] = 0;
         }
-        for (std::size_t base = 0; base < rays.size(); base += 16) {
-            const std::size_t n = std::min<std::size_t>(16, rays.size() - base);
-            const Ray* r = rays.data() + base;
+        const Ray* r[16];
+        for (std::size_t base = 0; base < count; base += 16) {
+            const std::size_t n = std::min<std::size_t>(16, count - base);
+            for (std::size_t k = 0; k < n; ++k) r[k] = &rays[at(base + k)];
             for (std::size_t k = 0; k < n; ++k) {
                 valid[k] = -1;
-                rh.ray.org_x[k] = r[k].ox;
-                rh.ray.org_y[k] = r[k].oy;
-                rh.ray.org_z[k] = r[k].oz;
-                rh.ray.tnear[k] = r[k].tnear;
-                rh.ray.dir_x[k] = snap_tiny(r[k].dx);
-                rh.ray.dir_y[k] = snap_tiny(r[k].dy);
-                rh.ray.dir_z[k] = snap_tiny(r[k].dz);
-                rh.ray.tfar[k] = r[k].tfar;
+                rh.ray.org_x[k] = r[k]->ox;
+                rh.ray.org_y[k] = r[k]->oy;
+                rh.ray.org_z[k] = r[k]->oz;
+                rh.ray.tnear[k] = r[k]->tnear;
+                rh.ray.dir_x[k] = snap_tiny(r[k]->dx);
+                rh.ray.dir_y[k] = snap_tiny(r[k]->dy);
+                rh.ray.dir_z[k] = snap_tiny(r[k]->dz);
+                rh.ray.tfar[k] = r[k]->tfar;
                 rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
@@ -306,9 +310,10 @@ struct EmbreeRenderer::Impl {
             for (std::size_t k = n; k < 16; ++k) valid[k] = 0;  // last packet only
             rtcIntersect16(valid, top, &ctx, &rh);
             for (std::size_t k = 0; k < n; ++k) {
-                hits[base + k] = make_hit(
-                    rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k],
-                    {rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]}, {r[k].dx, r[k].dy, r[k].dz});
+                hits[at(base + k)] =
+                    make_hit(rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.instID[0][k],
+                             rh.hit.primID[k], {rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]},
+                             {r[k]->dx, r[k]->dy, r[k]->dz});
             }
         }
     }
@@ -410,8 +415,20 @@ void EmbreeRenderer::intersect(std::span<const Ray> rays, std::span<Hit> hits) c
     if (impl_->opt.api == TraceApi::Single) {
         impl_->trace_single(rays.first(n), hits.first(n));
     } else {
-        impl_->trace_packets(rays.first(n), hits.first(n));
+        impl_->trace_packets(
+            rays, n, [](std::size_t k) { return k; }, hits);
     }
+}
+
+void EmbreeRenderer::intersect_some(std::span<const Ray> rays, std::span<const std::uint32_t> which,
+                                    std::span<Hit> hits) const {
+    if (impl_->opt.api == TraceApi::Single) {
+        Renderer::intersect_some(rays, which, hits);
+        return;
+    }
+    enable_ftz_daz();
+    impl_->trace_packets(
+        rays, which.size(), [&](std::size_t k) { return which[k]; }, hits);
 }
 
 }  // namespace mirage::render

@@ -16,6 +16,17 @@
 
 namespace mirage::render {
 
+class RayBatchBuilder;
+
+// An adaptive footprint's pulse (docs/physics.md §2.9): what its probes found, and for a plane
+// the footprint integral over it in closed form.
+struct PlaneFootprint {
+    enum Kind : std::uint8_t { kSampled, kMissed, kPlane } kind = kSampled;
+    double range_m = 0;       // power-weighted mean range
+    double power_factor = 0;  // received power over the central ray's
+    double sigma_m = 0;       // power-weighted RMS spread of the range
+};
+
 // Pulses of one trace batch in firing order, their sensor poses, and the rays traced for them.
 struct RayBatch {
     std::uint64_t first = 0;  // global index of the batch's first pulse
@@ -30,6 +41,14 @@ struct RayBatch {
     // double) and the sensor-frame direction.
     std::vector<double> t;
     std::array<std::vector<double>, 3> v;
+    // Set by PulseShader::trace: the rays it traced and, for an adaptive footprint, each pulse's
+    // probes' verdict (empty when sampled); the rest's hits read as misses. part_at is its
+    // scratch: the places in `rays` of one pass's rays.
+    std::size_t traced = 0;
+    std::vector<PlaneFootprint> plane;
+    std::vector<std::uint32_t> part_at;
+    std::vector<std::uint8_t> block_done;      // per block of sub-rays (tracing order): no rest
+    const RayBatchBuilder* builder = nullptr;  // that built it (complete())
 
     Eigen::Vector3d origin_of(std::size_t i) const {
         return {origin[0][i], origin[1][i], origin[2][i]};
@@ -38,6 +57,10 @@ struct RayBatch {
         return {direction[0][i], direction[1][i], direction[2][i]};
     }
 };
+
+// Adaptive footprints' probes among `subrays` hexagonal sub-rays (1 = probe): the central one and
+// six on the outer ring 60° apart (for 7, the whole ring).
+std::vector<std::uint8_t> footprint_probes(std::size_t subrays);
 
 // Builds the batches every tracer of the pipeline traces: render(), WindowRenderer and the
 // benchmark's Embree ceiling (TraceBatches) all go through for_each_batch().
@@ -59,14 +82,16 @@ class RayBatchBuilder {
         }
     }
 
-    // One batch: pulses [first, first + n).
+    // One batch: pulses [first, first + n). An adaptive footprint's pulses get their probes only.
     void build(std::uint64_t first, std::size_t n, RayBatch& g) const;
+    // The sub-rays other than probes of the block of rays at [r, r + S), around its central ray.
+    void complete(RayBatch& g, std::size_t r) const;
 
   private:
     void load_pulses(std::uint64_t first, std::size_t n, RayBatch& g) const;
     void blend_batch_poses(RayBatch& g) const;
     void make_rays(RayBatch& g) const;
-    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out) const;
+    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out, bool probes_only) const;
 
     const sensor::SensorModel& sensor_;
     const core::Trajectory& trajectory_;
@@ -75,6 +100,7 @@ class RayBatchBuilder {
     std::vector<sensor::SubRay> subrays_;
     std::vector<std::pair<float, float>> tanf_;  // tangents of the sub-ray offsets
     std::vector<float> inv_normf_;
+    std::vector<std::uint8_t> probes_;  // adaptive footprints: footprint_probes(), else empty
     std::uint32_t group_;
     std::size_t pose_stride_;  // pulses between exact poses
     std::size_t batch_;        // trace_batch_pulses()

@@ -70,6 +70,14 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
     Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, count)
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t r = g.first_ray[i];
+        if (!g.plane.empty() && g.plane[i].kind == PlaneFootprint::kPlane) {
+            // One plane (adaptive_footprint.cpp): its closed form is the pulse's one return.
+            const PlaneFootprint& f = g.plane[i];
+            scratch.pending.push_back({f.range_m, power_k_ * terms[r] * f.power_factor,
+                                       static_cast<std::uint32_t>(i), r, 0});
+            stats.pulses++;
+            continue;
+        }
         const PulseHits ph = gather_hits(&hits[r], rays, terms + r, weighted_k, buffer, paths, r,
                                          static_cast<std::uint32_t>(i));
         stats.pulses++;

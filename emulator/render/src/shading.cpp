@@ -142,6 +142,13 @@ PulseShader::PulseShader(const Setup& setup)
             cfd_offset_ns_ = calibrate_cfd();
     }
     speckle_m_ = sensor::speckle_cells(sensor_);
+    if (sensor_.beam.adaptive_footprint) {
+        probes_ = footprint_probes(std::size_t(sensor_.beam.sub_rays));
+        m2_ = footprint_m2();
+        const double t =
+            std::tan(0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius);
+        max_offset2_ = t * t;
+    }
     check_recording();
     init_volume();
 }
@@ -198,7 +205,6 @@ void PulseShader::shade(const RayBatch& g, std::vector<Hit>& hits,
     scratch.pending.clear();
     // Power of each sub-ray per unit brdf·cos θ·τ²/R² (local: one shader serves all threads).
     const std::vector<double> k = weighted_k(subrays);
-    const std::size_t own = hits.size();
     // With continuations their hits follow the batch's own in `hits`, and returns index the
     // longer vector. Without, everything below is the first-hit path as it always was.
     scratch.paths = trace_paths(g, hits, scratch, out.stats);
@@ -207,11 +213,11 @@ void PulseShader::shade(const RayBatch& g, std::vector<Hit>& hits,
     const double* terms = scratch.ray_terms.data();
     if (linear_)
         waveform_returns(g, hits, terms, k, scratch, out);
-    else if (subrays.size() == 1 && !scratch.paths)
+    else if (subrays.size() == 1 && !scratch.paths && g.plane.empty())
         single_returns(g, hits, terms, k[0], scratch, out.stats);
     else
         clustered_returns(g, hits, rays, terms, k, scratch, out.stats);
-    out.stats.rays += own;
+    out.stats.rays += g.traced;
     if (!linear_) vary_returns(g.first, scratch);  // the waveform detector's: per arrival
     draw(g.first, scratch);
     electrons(g, scratch);
@@ -235,7 +241,19 @@ void PulseShader::ray_terms(const RayBatch& g, const std::vector<Hit>& hits,
     };
     const PathScratch* paths = scratch.paths ? &scratch.path : nullptr;
     const std::size_t own = paths ? paths->own : hits.size();
-    kernel(g.rays.data(), 0, own);
+    if (g.plane.empty()) {
+        kernel(g.rays.data(), 0, own);
+    } else {  // adaptive footprints: a pulse done by its probes reads its central ray's only
+        const std::size_t per = own / g.block_done.size();
+        std::size_t run = 0;  // first ray of the current run of sampled pulses
+        for (std::size_t b = 0; b < g.block_done.size(); ++b) {
+            if (!g.block_done[b]) continue;
+            kernel(g.rays.data() + run, run, b * per - run);
+            kernel(g.rays.data() + b * per, b * per, 1);
+            run = (b + 1) * per;
+        }
+        kernel(g.rays.data() + run, run, own - run);
+    }
     if (paths) {
         kernel(paths->rays.data(), own, paths->rays.size());
         for (std::size_t k = 0; k < paths->rays.size(); ++k)
@@ -251,7 +269,7 @@ void PulseShader::slant_transmission(const RayView& rays, const std::vector<Hit>
                                      ShadeScratch& scratch) const {
     for (std::size_t e = 0; e < hits.size(); ++e) {
         double& term = scratch.ray_terms[e];
-        if (term == 0.0) continue;
+        if (term == 0.0 || !hits[e].hit()) continue;  // (a miss's term may be unset)
         const double base = e < rays.n ? 0.0 : scratch.path.base[e - rays.n];
         const Ray& r = rays[e];
         const double z1 = r.oz + (hits[e].t - base) * r.dz;

@@ -239,6 +239,8 @@ class PulseShader {
                           const std::vector<double>& weighted_k, ShadeScratch& scratch,
                           ShadedPoints& out) const;
     void merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const;
+    void plane_arrivals(const PlaneFootprint& f, double central_pe, std::uint32_t hit,
+                        std::vector<physics::Arrival>& out) const;
     double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
     void detect_group(std::uint64_t pulse, const SampleGroup& g, double floor_pe,
@@ -271,6 +273,13 @@ class PulseShader {
     void scale_group(const SampleGroup& g, double factor, ShadeScratch& scratch) const;
     // beam_wander.cpp: each pulse's beam turned by the turbulence's wander at its first range.
     void wander(RayBatch& g, const std::vector<Hit>& hits) const;
+    // adaptive_footprint.cpp: probes first, a plane's footprint in closed form.
+    double footprint_m2() const;
+    void trace_footprints(RayBatch& g, std::vector<Hit>& hits) const;
+    void trace_part(RayBatch& g, std::vector<Hit>& hits, bool probes) const;
+    PlaneFootprint plane_footprint(const RayBatch& g, const std::vector<Hit>& hits,
+                                   std::uint32_t r) const;
+    bool on_plane(const RayBatch& g, const std::vector<Hit>& hits, std::uint32_t r) const;
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
     bool continues(const Hit& h) const;
@@ -337,6 +346,10 @@ class PulseShader {
     // fraction to its centroid, added to every edge so a lone echo is timed as its peak.
     double cfd_offset_ns_ = 0;
     double speckle_m_ = 0;  // speckle cells M, 0: none
+    // Adaptive footprints: which sub-rays are probes (empty: sampled), the footprint's mean
+    // square offset tangent per axis and its largest offset tangent squared.
+    std::vector<std::uint8_t> probes_;
+    double m2_ = 0, max_offset2_ = 0;
 };
 
 }  // namespace mirage::render

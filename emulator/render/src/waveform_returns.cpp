@@ -48,11 +48,30 @@ bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits
         out.push_back({delay, static_cast<float>(pe), e});
     };
     const std::uint32_t r = g.first_ray[i];
+    if (!g.plane.empty() && g.plane[i].kind == PlaneFootprint::kPlane) {
+        plane_arrivals(g.plane[i], terms[r] * power_k_ * e_per_w, r, out);
+        return false;
+    }
     for (std::uint32_t s = 0; s < weighted_k.size(); ++s) take(r + s, weighted_k[s]);
     if (paths)
         for (const std::uint32_t e : paths->of_pulse(i))
             take(e, weighted_k[paths->sub[e - paths->own]]);
     return close;
+}
+
+// A plane's footprint (adaptive_footprint.cpp) as three arrivals at R̄ and R̄ ± √3·σ_R with 1/6,
+// 2/3, 1/6 of the photo-electrons (Gauss–Hermite): the delays' mean and variance, and a Gaussian
+// spread's fourth moment, as the footprint's sub-rays would give them.
+void PulseShader::plane_arrivals(const PlaneFootprint& f, double central_pe, std::uint32_t hit,
+                                 std::vector<physics::Arrival>& out) const {
+    const double pe = central_pe * f.power_factor;
+    if (!(pe > 0.0)) return;
+    const double spread = std::sqrt(3.0) * f.sigma_m;
+    const double ranges[3] = {f.range_m - spread, f.range_m, f.range_m + spread};
+    const double share[3] = {1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0};
+    for (int k = 0; k < 3; ++k)
+        out.push_back({static_cast<std::int64_t>(ranges[k] * kPsPerMeterTwoWay + 0.5),
+                       static_cast<float>(pe * share[k]), hit});
 }
 
 // Arrivals (sorted) less than Δt/32 apart merge into one at their photo-electron-weighted mean

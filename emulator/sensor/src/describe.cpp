@@ -76,6 +76,8 @@ std::string describe(const SensorModel& m) {
                            b.pulse_shape_file, b.pulse_t_ns.size(), b.pulse_width_s * 1e9);
     if (b.footprint_radius != 1.0)
         out += fmt::format("  footprint: sub-rays out to {:.2f} 1/e^2 radii\n", b.footprint_radius);
+    if (b.adaptive_footprint)
+        out += "  footprint: adaptive (probes first; one plane in closed form)\n";
     const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
     const double ifov = pixel_d / (rx.f_number * rx.aperture_diameter_m);
     const double per_sigma = noise_sigma_for_floor(1.0, b, rx);

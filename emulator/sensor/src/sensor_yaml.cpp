@@ -151,10 +151,10 @@ void read_pulse_shape(const Reader& r, const YAML::Node& n, BeamParams& b) {
 }
 
 void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
-    r.only_keys(
-        n, "beam",
-        {"wavelength_nm", "pulse_energy_uj", "pulse_width_ns", "divergence_mrad", "profile",
-         "sub_rays", "laser_bandwidth_nm", "footprint_radius", "pulse_shape", "energy_sigma"});
+    r.only_keys(n, "beam",
+                {"wavelength_nm", "pulse_energy_uj", "pulse_width_ns", "divergence_mrad", "profile",
+                 "sub_rays", "laser_bandwidth_nm", "footprint_radius", "pulse_shape",
+                 "energy_sigma", "footprint"});
     if (n["wavelength_nm"])
         b.wavelength_m = 1e-9 * r.number(n["wavelength_nm"], "beam.wavelength_nm", 200, 12000);
     if (n["pulse_energy_uj"])
@@ -185,6 +185,12 @@ void read_beam(const Reader& r, const YAML::Node& n, BeamParams& b) {
         if (b.profile == BeamProfile::TopHat && b.footprint_radius != 1.0)
             r.fail("beam.footprint_radius",
                    "a top-hat beam has no light beyond its radius (use 1)");
+    }
+    if (n["footprint"]) {
+        const std::string f = r.text(n["footprint"], "beam.footprint");
+        if (f != "sampled" && f != "adaptive")
+            r.fail("beam.footprint", "'" + f + "' is not sampled or adaptive");
+        b.adaptive_footprint = f == "adaptive";
     }
     if (n["sub_rays"]) {
         const auto v = r.integer(n["sub_rays"], "beam.sub_rays", -1'000'000, 1'000'000);

@@ -44,6 +44,8 @@ class EmbreeRenderer : public Renderer {
     EmbreeRenderer& operator=(const EmbreeRenderer&) = delete;
 
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override;
+    void intersect_some(std::span<const Ray> rays, std::span<const std::uint32_t> which,
+                        std::span<Hit> hits) const override;
     const EmbreeBuildStats& build_stats() const;
 
   private:

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -33,6 +34,21 @@ class Renderer {
     // hits.size() must equal rays.size(). Rays are traced in the given order; callers group
     // coherent rays (one beam over neighbouring azimuths) for packet tracing.
     virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
+    // Only rays[which[k]], in that order, each hit into hits[which[k]] (hits.size() ==
+    // rays.size()); the others' hits are not touched. By default through intersect(), a few at a
+    // time.
+    virtual void intersect_some(std::span<const Ray> rays, std::span<const std::uint32_t> which,
+                                std::span<Hit> hits) const {
+        constexpr std::size_t kStep = 64;
+        Ray r[kStep];
+        Hit h[kStep];
+        for (std::size_t base = 0; base < which.size(); base += kStep) {
+            const std::size_t n = std::min(kStep, which.size() - base);
+            for (std::size_t k = 0; k < n; ++k) r[k] = rays[which[base + k]];
+            intersect(std::span<const Ray>(r, n), std::span<Hit>(h, n));
+            for (std::size_t k = 0; k < n; ++k) hits[which[base + k]] = h[k];
+        }
+    }
 };
 
 }  // namespace mirage::render

@@ -24,6 +24,9 @@ struct BeamParams {
     // Radius the sub-rays reach, in 1/e² radii (Gaussian profile only): 1 drops the 13.5 % of
     // the energy outside it, 2 keeps all but 0.03 % (docs/physics.md §3.5).
     double footprint_radius = 1.0;
+    // Adaptive footprints (docs/physics.md §2.9): a few probe sub-rays first; a pulse whose probes
+    // agree on one plane takes its footprint integral in closed form, the others trace the rest.
+    bool adaptive_footprint = false;
     // Pulse-to-pulse energy variation: each pulse fires E·max(0, 1 + σ·z), z standard normal
     // drawn per pulse (docs/time-resolved.md §6); 0: every pulse the same.
     double energy_sigma = 0.0;
