@@ -92,16 +92,19 @@ void markdown_errors(std::ostream& md, const BenchReport& r) {
     md << "## Run time against error (VLP-16, demo drive, noise off)\n\n"
           "Each render against a denser reference of the same detector (37 sub-rays); the last "
           "row of each detector is that reference against 61 sub-rays, its own error. The "
-          "waveform rows use the linear detector (1 GS/s, peak timing) noise-free.\n\n"
-          "| detector | sub-rays | reference | time s | range RMS mm | range p50 mm | range p95 "
+          "waveform rows use the linear detector (1 GS/s, peak timing) noise-free. An adaptive "
+          "footprint traces 7 probes per pulse and the rest only where they disagree; its time "
+          "and the sampled 19's are each the best of three alternating runs.\n\n"
+          "| detector | footprint | sub-rays | reference | time s | range RMS mm | range p50 mm | "
+          "range p95 "
           "mm | on another surface % | range RMS on the same surface mm | intensity RMS | "
           "return presence differs % |\n"
-          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+          "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& e : r.errors)
         md << fmt::format(
-            "| {} | {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | "
+            "| {} | {} | {} | {} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.3f} | {:.2f} | {:.1f} | "
             "{:.3f} |\n",
-            e.detector, e.sub_rays, e.reference_sub_rays, fig(e.seconds),
+            e.detector, e.footprint, e.sub_rays, e.reference_sub_rays, fig(e.seconds),
             fig(e.range_rms_m * 1000.0), fig(e.range_p50_m * 1000.0), fig(e.range_p95_m * 1000.0),
             fig(100.0 * e.other_surface), fig(e.same_surface_range_rms_m * 1000.0),
             fig(e.intensity_rms), fig(100.0 * e.presence_mismatch));
@@ -191,6 +194,7 @@ nlohmann::ordered_json path_json(const PathRow& p) {
 
 nlohmann::ordered_json error_json(const ErrorRow& e) {
     return {{"detector", e.detector},
+            {"footprint", e.footprint},
             {"sub_rays", e.sub_rays},
             {"reference_sub_rays", e.reference_sub_rays},
             {"seconds", e.seconds},
@@ -324,8 +328,8 @@ void write_svg(const BenchReport& r, const std::string& path) {
                                                     : (wave ? "#1b9e77" : "#d95f02");
         const double x = p.x(e.seconds), y = p.y(std::max(1e-6, e.range_rms_m * 1000.0));
         svg << fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='5' fill='{}'/>\n", x, y, col);
-        svg << fmt::format("<text x='{:.1f}' y='{:.1f}'>{} rays</text>\n", x + 7, y - 4,
-                           e.sub_rays);
+        svg << fmt::format("<text x='{:.1f}' y='{:.1f}'>{} rays{}</text>\n", x + 7, y - 4,
+                           e.sub_rays, e.footprint == "adaptive" ? " adaptive" : "");
     }
     svg << fmt::format(
         "<text x='{}' y='18'>VLP-16 run time vs range error (against 37 sub-rays: orange "

@@ -73,6 +73,7 @@ struct PathRow {
 // Error of a render against a denser reference (same BVH: its quality never changes a hit).
 struct ErrorRow {
     std::string detector = "discrete";  // or "waveform" (the linear detector, peak timing)
+    std::string footprint = "sampled";  // or "adaptive" (beam.footprint)
     int sub_rays = 1;
     int reference_sub_rays = 37;
     double seconds = 0, reference_seconds = 0;
