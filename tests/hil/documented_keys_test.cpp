@@ -232,6 +232,8 @@ std::vector<KeyCase> cases() {
          kVlp16 + "receiver: {range_resolution_m: 0.1}\n"},
         {"receiver.max_returns", "", "", kVlp16 + "beam: {sub_rays: 19, divergence_mrad: 30}\n",
          kVlp16 + "beam: {sub_rays: 19, divergence_mrad: 30}\nreceiver: {max_returns: 3}\n"},
+        {"receiver.diffuse_bounces", "", "", kVlp16 + "receiver: {detector_area_mm2: 50}\n",
+         kVlp16 + "receiver: {detector_area_mm2: 50, diffuse_bounces: 1}\n"},
         {"receiver.max_path_depth", material("reflectance: 0.5, transmission: 0.3"),
          material("reflectance: 0.5, transmission: 0.3"), kVlp16,
          kVlp16 + "receiver: {max_path_depth: 1}\n"},

@@ -6,7 +6,10 @@
 // path's weight by its fraction squared. Below path_energy_threshold a path goes on by Russian
 // roulette with its weight raised to the threshold (unbiased).
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 
+#include "basis.hpp"
 #include "mirage/core/rng.hpp"
 #include "shading.hpp"
 
@@ -51,15 +54,21 @@ bool PulseShader::trace_paths(const RayBatch& g, std::vector<Hit>& hits, ShadeSc
         const std::size_t to = p.rays.size(), from = to - p.round_hits.size();
         for (std::size_t k = from; k < to; ++k) {
             const Hit& h = hits[p.own + k];
-            if (!continues(h)) continue;
+            // (a diffuse surface continues only while the path has bounces left)
+            if (!continues(h) ||
+                (!scene_.materials[h.material].continues() && p.bounces[k] >= bounces_))
+                continue;
             if (depth >= sensor_.receiver.max_path_depth) {
                 stats.paths_cut++;
                 continue;
             }
-            spawn(g.first, {p.rays[k], h, p.weight[k], p.base[k], p.sub[k], p.code[k], p.pulse[k]},
+            spawn(g.first,
+                  {p.rays[k], h, p.weight[k], p.base[k], p.sub[k], p.code[k], p.pulse[k], p.open[k],
+                   p.bounces[k]},
                   p, stats);
         }
     }
+    if (bounces_ > 0) next_events(g, hits, p);
     index_by_pulse(g.specs.size(), p);
     return true;
 }
@@ -82,33 +91,42 @@ bool PulseShader::trace_round(PathScratch& p, std::vector<Hit>& hits, RenderStat
     return true;
 }
 
-// A parent's continuations into the round: transmitted (same ray, beyond the surface) and
-// mirrored (from the hit, reflected), each with its weight, base, sub-ray, code and pulse.
+// One continuation of parent q into the round: its ray, weight (q's times the fraction the
+// surface passes on: twice for a closed path, whose light comes back the way it went; once for an
+// open one, whose light reaches the receiver from its hits), path length before the ray, and code.
+// Below path_energy_threshold it goes on by Russian roulette.
+void PulseShader::push_continuation(std::uint64_t first_pulse, const PathParent& q, const Ray& r,
+                                    double fraction, double base, std::uint32_t kind,
+                                    PathScratch& p, RenderStats& stats) const {
+    double w = q.weight * (q.open ? fraction : fraction * fraction);
+    const std::uint32_t code = q.code * 3u + kind;
+    const double threshold = sensor_.receiver.path_energy_threshold;
+    if (w < threshold) {
+        core::PulseRng rng(opt_.seed ^ code, first_pulse + q.pulse, kRouletteStream);
+        if (rng.uniform() * threshold >= w) {
+            stats.paths_cut++;
+            return;
+        }
+        w = threshold;
+    }
+    p.round_rays.push_back(r);
+    p.weight.push_back(w);
+    p.base.push_back(base);
+    p.sub.push_back(q.sub);
+    p.code.push_back(code);
+    p.pulse.push_back(q.pulse);
+    p.open.push_back(q.open);
+    p.bounces.push_back(q.bounces);
+}
+
+// A parent's continuations into the round: transmitted (same ray, beyond the surface), mirrored
+// (from the hit, reflected) and bounced (diffuse).
 void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScratch& p,
                         RenderStats& stats) const {
     const Hit& h = q.hit;
     const Ray& ray = q.ray;
     const scene::Material& m = scene_.materials[h.material];
     const double seg = h.t - q.base;  // along the parent's own ray
-    const auto add = [&](const Ray& r, double fraction, double base, std::uint32_t kind) {
-        double w = q.weight * fraction * fraction;
-        const std::uint32_t code = q.code * 3u + kind;
-        const double threshold = sensor_.receiver.path_energy_threshold;
-        if (w < threshold) {
-            core::PulseRng rng(opt_.seed ^ code, first_pulse + q.pulse, kRouletteStream);
-            if (rng.uniform() * threshold >= w) {
-                stats.paths_cut++;
-                return;
-            }
-            w = threshold;
-        }
-        p.round_rays.push_back(r);
-        p.weight.push_back(w);
-        p.base.push_back(base);
-        p.sub.push_back(q.sub);
-        p.code.push_back(code);
-        p.pulse.push_back(q.pulse);
-    };
     double tau = m.transmission, mirror = m.mirror;
     if (m.refractive_index > 0.0) {  // glass: Fresnel at this hit's incidence (§5)
         const double cos_i = std::abs(ray.dx * h.nx + ray.dy * h.ny + ray.dz * h.nz);
@@ -119,7 +137,7 @@ void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScra
     if (tau > 0.0) {
         Ray t = ray;
         t.tnear = static_cast<float>(seg) + kStep_m;
-        add(t, tau, q.base, 1);
+        push_continuation(first_pulse, q, t, tau, q.base, 1, p, stats);
     }
     if (mirror > 0.0) {
         const float dn = ray.dx * h.nx + ray.dy * h.ny + ray.dz * h.nz;
@@ -132,8 +150,87 @@ void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScra
         r.dy = ray.dy - 2 * dn * h.ny;
         r.dz = ray.dz - 2 * dn * h.nz;
         r.tnear = kStep_m;
-        add(r, mirror, h.t, 2);
+        push_continuation(first_pulse, q, r, mirror, h.t, 2, p, stats);
     }
+    if (q.bounces < bounces_ && m.reflectance > 0.0) add_bounce(first_pulse, q, p, stats);
+}
+
+// A diffuse bounce (time-resolved.md §5): the path goes on from the hit in a cosine-distributed
+// direction about the normal (which faces where the light came from), carrying the fraction ρ_d
+// of the light that reached the hit (one way: the square root of a closed path's two-way
+// weight), open from here on. The direction is drawn from the path's own code, so every thread
+// count draws the same.
+void PulseShader::add_bounce(std::uint64_t first_pulse, const PathParent& q, PathScratch& p,
+                             RenderStats& stats) const {
+    const Hit& h = q.hit;
+    const Ray& ray = q.ray;
+    PathParent open = q;
+    open.weight = q.open ? q.weight : std::sqrt(q.weight);
+    open.open = 1;
+    open.bounces = static_cast<std::uint8_t>(q.bounces + 1);
+    core::PulseRng rng(opt_.seed ^ (q.code * 3u), first_pulse + q.pulse, kBounceStream);
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const double r = std::sqrt(u1), phi = 2.0 * std::numbers::pi * u2;
+    const Eigen::Vector3d n(h.nx, h.ny, h.nz);
+    Eigen::Vector3d a, b;
+    orthonormal_basis(n, a, b);
+    const Eigen::Vector3d d =
+        r * std::cos(phi) * a + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u1)) * n;
+    const auto f = static_cast<float>(h.t - q.base);
+    Ray out;
+    out.ox = ray.ox + f * ray.dx;
+    out.oy = ray.oy + f * ray.dy;
+    out.oz = ray.oz + f * ray.dz;
+    out.dx = static_cast<float>(d.x());
+    out.dy = static_cast<float>(d.y());
+    out.dz = static_cast<float>(d.z());
+    out.tnear = kStep_m;
+    push_continuation(first_pulse, open, out, scene_.materials[h.material].reflectance, h.t, 0, p,
+                      stats);
+}
+
+// Each open path's hit seen from the receiver: inside the pixel's field of view about the beam,
+// on the side its light arrived from, with nothing between (shadow rays traced as one batch).
+// Its cos θ_r/R² goes to p.nee and its hit's range becomes half the whole path, out and back,
+// so both detectors place its light at the path's delay.
+void PulseShader::next_events(const RayBatch& g, std::vector<Hit>& hits, PathScratch& p) const {
+    p.nee.assign(p.rays.size(), -1.0);
+    std::vector<Ray> shadow;
+    std::vector<std::uint32_t> of;
+    std::vector<double> r2;
+    for (std::size_t k = 0; k < p.rays.size(); ++k) {
+        if (!p.open[k]) continue;
+        p.nee[k] = 0.0;
+        Hit& h = hits[p.own + k];
+        if (!h.hit()) continue;
+        const Ray& ray = p.rays[k];
+        const double seg = double(h.t) - p.base[k];
+        const Eigen::Vector3d x(ray.ox + seg * ray.dx, ray.oy + seg * ray.dy,
+                                ray.oz + seg * ray.dz);
+        const Eigen::Vector3d to_rx = g.origin_of(p.pulse[k]) - x;
+        const double dist = to_rx.norm();
+        const Eigen::Vector3d v = to_rx / dist;
+        const double cos_r = v.x() * h.nx + v.y() * h.ny + v.z() * h.nz;
+        const double cos_axis = -v.dot(g.direction_of(p.pulse[k]));
+        h.t = static_cast<float>(0.5 * (double(h.t) + dist));
+        if (!(cos_r > 0.0) || cos_axis < fov_cos_) continue;
+        Ray s;
+        s.ox = static_cast<float>(x.x());
+        s.oy = static_cast<float>(x.y());
+        s.oz = static_cast<float>(x.z());
+        s.dx = static_cast<float>(v.x());
+        s.dy = static_cast<float>(v.y());
+        s.dz = static_cast<float>(v.z());
+        s.tnear = kStep_m;
+        s.tfar = static_cast<float>(dist) - kStep_m;
+        shadow.push_back(s);
+        of.push_back(static_cast<std::uint32_t>(k));
+        r2.push_back(cos_r / (dist * dist));
+    }
+    std::vector<Hit> blocked(shadow.size());
+    renderer_.intersect(shadow, blocked);
+    for (std::size_t j = 0; j < shadow.size(); ++j)
+        if (!blocked[j].hit()) p.nee[of[j]] = r2[j];
 }
 
 // The continuations of each pulse as entries, in the order they were made (a counting sort).

@@ -16,10 +16,12 @@ std::vector<physics::Arrival> pulse_arrivals(const Setup& setup, std::uint64_t p
     std::vector<Hit> hits;
     shader.trace(g, hits);
     ShadeScratch scratch;
+    RenderStats stats;
+    scratch.paths = shader.trace_paths(g, hits, scratch, stats);
     shader.ray_terms(g, hits, scratch);
     std::vector<physics::Arrival> out;
     shader.pulse_arrivals(g, hits, scratch.ray_terms.data(), shader.weighted_k(builder.subrays()),
-                          0, out);
+                          0, out, scratch.paths ? &scratch.path : nullptr);
     std::sort(out.begin(), out.end(),
               [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
     return out;

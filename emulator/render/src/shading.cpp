@@ -117,8 +117,11 @@ PulseShader::PulseShader(const Setup& setup)
         brdf_constant_.push_back(m.specular > 0.0 ? -1.0 : f);
         diffuse_brdf_.push_back(diffuse);
         point_fields_.push_back({m.red, m.green, m.blue, m.classification});
-        continues_.push_back(m.continues() ? 1 : 0);
-        continues_any_ |= m.continues();
+        // With diffuse bounces every surface that reflects sends the path on (paths.cpp).
+        const bool goes_on =
+            m.continues() || (sensor_.receiver.diffuse_bounces > 0 && m.reflectance > 0.0);
+        continues_.push_back(goes_on ? 1 : 0);
+        continues_any_ |= goes_on;
     }
     if (continues_.empty()) continues_.push_back(0);
     // An echo from the atmosphere: LAS class 18 (high noise), no colour.
@@ -142,6 +145,16 @@ PulseShader::PulseShader(const Setup& setup)
             cfd_offset_ns_ = calibrate_cfd();
     }
     speckle_m_ = sensor::speckle_cells(sensor_);
+    bounces_ = sensor_.receiver.diffuse_bounces;
+    {  // the pixel's IFOV (docs/physics.md eq. 5): pixel diameter over the focal length
+        const auto& rx = sensor_.receiver;
+        const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
+        const double f = rx.f_number * rx.aperture_diameter_m;
+        fov_cos_ = std::cos(std::min(0.5 * pixel_d / f, 0.5 * std::numbers::pi));
+        const double t = std::tan(0.5 * sensor_.beam.divergence_rad);
+        const double spot = std::numbers::pi * t * t, pix = rx.detector_area_m2 / (f * f);
+        if (spot > 0.0 && pix > 0.0) nee_scale_ = spot / std::min(spot, pix);
+    }
     if (sensor_.beam.adaptive_footprint) {
         probes_ = footprint_probes(std::size_t(sensor_.beam.sub_rays));
         m2_ = footprint_m2();
@@ -258,8 +271,26 @@ void PulseShader::ray_terms(const RayBatch& g, const std::vector<Hit>& hits,
         kernel(paths->rays.data(), own, paths->rays.size());
         for (std::size_t k = 0; k < paths->rays.size(); ++k)
             scratch.ray_terms[own + k] *= paths->weight[k];
+        if (!paths->nee.empty()) next_event_terms(hits, alpha2, scratch);
     }
     if (profile) slant_transmission(rays_of(g, paths), hits, scratch);
+}
+
+// An open path's hit (past a diffuse bounce, paths.cpp) sends its light straight to the
+// receiver: weight·(ρ_d/π)·cos θ_r/R²·τ over the whole path (τ² at half of it, the hit's range),
+// taken by the receiver inside its field of view without the pixel's share of the spot (eq. 4′).
+void PulseShader::next_event_terms(const std::vector<Hit>& hits, double alpha2,
+                                   ShadeScratch& scratch) const {
+    const PathScratch& p = scratch.path;
+    const double lo = sensor_.receiver.min_range_m, hi = sensor_.receiver.max_range_m;
+    for (std::size_t k = 0; k < p.rays.size(); ++k) {
+        if (p.nee[k] < 0.0) continue;
+        const Hit& h = hits[p.own + k];
+        const bool seen = h.hit() && h.t >= lo && h.t <= hi && p.nee[k] > 0.0;
+        scratch.ray_terms[p.own + k] = seen ? p.weight[k] * diffuse_brdf_[h.material] * p.nee[k] *
+                                                  nee_scale_ * core::exp_poly(-alpha2 * h.t)
+                                            : 0.0;
+    }
 }
 
 // An extinction profile: each term times the two-way transmittance of its path, from the ray's
@@ -270,6 +301,9 @@ void PulseShader::slant_transmission(const RayView& rays, const std::vector<Hit>
     for (std::size_t e = 0; e < hits.size(); ++e) {
         double& term = scratch.ray_terms[e];
         if (term == 0.0 || !hits[e].hit()) continue;  // (a miss's term may be unset)
+        // An open path's light goes out and back by different ways: no profile along it.
+        if (e >= rays.n && !scratch.path.nee.empty() && scratch.path.nee[e - rays.n] >= 0.0)
+            continue;
         const double base = e < rays.n ? 0.0 : scratch.path.base[e - rays.n];
         const Ray& r = rays[e];
         const double z1 = r.oz + (hits[e].t - base) * r.dz;

@@ -49,6 +49,12 @@ struct PathScratch {
     std::vector<double> weight;
     std::vector<double> base;
     std::vector<std::uint32_t> sub, code, pulse;
+    // Per continuation: whether its path is open (past a diffuse bounce: its light reaches the
+    // receiver by the next event from each hit, not back along the path) and its bounces so far;
+    // for an open one's hit, cos θ_r/R² toward the receiver (0: outside the field of view or
+    // hidden), −1 for a closed one.
+    std::vector<std::uint8_t> open, bounces;
+    std::vector<double> nee;
     std::vector<std::uint32_t> first,
         order;  // continuations of pulse i (entries): order[first[i], first[i+1])
     std::vector<Ray> round_rays;
@@ -63,6 +69,9 @@ struct PathScratch {
         sub.clear();
         code.clear();
         pulse.clear();
+        open.clear();
+        bounces.clear();
+        nee.clear();
         round_rays.clear();
     }
     std::span<const std::uint32_t> of_pulse(std::uint32_t i) const {
@@ -84,6 +93,7 @@ struct PathParent {
     Hit hit;
     double weight, base;
     std::uint32_t sub, code, pulse;
+    std::uint8_t open = 0, bounces = 0;
 };
 
 // Samples [j0, j1) digitised as one waveform: arrivals [a, b) and, where it overlaps, the
@@ -98,6 +108,7 @@ struct SampleGroup {
 inline constexpr std::uint32_t kEnergyStream = 3;
 inline constexpr std::uint32_t kSpeckleStream = 4;  // each return's speckle factor, in order
 inline constexpr std::uint32_t kWanderStream = 5;   // the beam's wander, two normals
+inline constexpr std::uint32_t kBounceStream = 6;   // a diffuse bounce's direction, per path
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
 inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
@@ -193,6 +204,10 @@ class PulseShader {
     // With scratch.paths, also the continuations' (their hits after the batch's own).
     void ray_terms(const RayBatch& g, const std::vector<Hit>& hits, ShadeScratch& scratch) const;
     std::vector<double> weighted_k(const std::vector<sensor::SubRay>& subrays) const;
+    // paths.cpp: continuations of a batch's paths into s.path (their hits appended to `hits`);
+    // false when none.
+    bool trace_paths(const RayBatch& g, std::vector<Hit>& hits, ShadeScratch& s,
+                     RenderStats& stats) const;
 
   private:
     // A return: sub-ray hits merged into one echo.
@@ -283,12 +298,16 @@ class PulseShader {
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
     bool continues(const Hit& h) const;
-    bool trace_paths(const RayBatch& g, std::vector<Hit>& hits, ShadeScratch& s,
-                     RenderStats& stats) const;
     bool trace_round(PathScratch& p, std::vector<Hit>& hits, RenderStats& stats) const;
     void spawn(std::uint64_t first_pulse, const PathParent& parent, PathScratch& p,
                RenderStats& stats) const;
     void index_by_pulse(std::size_t pulses, PathScratch& p) const;
+    void push_continuation(std::uint64_t first_pulse, const PathParent& q, const Ray& r,
+                           double fraction, double base, std::uint32_t kind, PathScratch& p,
+                           RenderStats& stats) const;
+    void add_bounce(std::uint64_t first_pulse, const PathParent& q, PathScratch& p,
+                    RenderStats& stats) const;
+    void next_events(const RayBatch& g, std::vector<Hit>& hits, PathScratch& p) const;
     // waveform_record.cpp: the digitised window a render records per pulse with returns.
     void record_group(std::int64_t j0, ShadeScratch& scratch) const;
     std::uint32_t record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
@@ -296,6 +315,7 @@ class PulseShader {
 
     // shading.cpp: pending returns -> points.
     void electrons(const RayBatch& g, ShadeScratch& scratch) const;
+    void next_event_terms(const std::vector<Hit>& hits, double alpha2, ShadeScratch& scratch) const;
     void slant_transmission(const RayView& rays, const std::vector<Hit>& hits,
                             ShadeScratch& scratch) const;
     RayView rays_of(const RayBatch& g, const PathScratch* paths) const {
@@ -350,6 +370,12 @@ class PulseShader {
     // square offset tangent per axis and its largest offset tangent squared.
     std::vector<std::uint8_t> probes_;
     double m2_ = 0, max_offset2_ = 0;
+    // Diffuse bounces per path (receiver.diffuse_bounces) and cos of the receiver's half IFOV.
+    int bounces_ = 0;
+    double fov_cos_ = 1.0;
+    // Ω_spot / min(Ω_pix, Ω_spot): power_k_ holds the pixel's share of the spot (eq. 4′), which a
+    // point seen inside the field of view (a bounce's next event) does not take.
+    double nee_scale_ = 1.0;
 };
 
 }  // namespace mirage::render

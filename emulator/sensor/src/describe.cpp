@@ -97,6 +97,9 @@ std::string describe(const SensorModel& m) {
         out += fmt::format("  speckle: {:.1f} cells{} (contrast {:.3f})\n", speckle_cells(m),
                            rx.speckle_cells == kSpeckleAuto ? " from aperture and spot" : "",
                            1 / std::sqrt(speckle_cells(m)));
+    if (rx.diffuse_bounces > 0)
+        out += fmt::format("  paths: up to {} diffuse bounces, seen within the IFOV\n",
+                           rx.diffuse_bounces);
     out += fmt::format("  noise: range sigma {:.4f} m, jitter sigma {:.4f} mrad\n",
                        m.noise.range_sigma_m, m.noise.jitter_sigma_rad * 1e3);
     if (m.detector == DetectorKind::Linear) {

@@ -210,7 +210,7 @@ void read_receiver(const Reader& r, const YAML::Node& n, ReceiverParams& x) {
                  "quantum_efficiency", "detector_bandwidth_nm", "integration_time_ns",
                  "noise_irradiance_sigma", "threshold_gamma", "min_range_m", "max_range_m",
                  "range_resolution_m", "max_returns", "max_path_depth", "path_energy_threshold",
-                 "overlap_range_m", "speckle_cells"});
+                 "diffuse_bounces", "overlap_range_m", "speckle_cells"});
     const auto get = [&](const char* key, double lo, double hi, bool lo_open, double scale,
                          double& out) {
         if (n[key]) out = scale * r.number(n[key], join_path("receiver", key), lo, hi, lo_open);
@@ -235,6 +235,9 @@ void read_receiver(const Reader& r, const YAML::Node& n, ReceiverParams& x) {
         x.max_path_depth = static_cast<int>(
             r.integer(n["max_path_depth"], "receiver.max_path_depth", 1, kMaxPathDepth));
     get("path_energy_threshold", 0, 1, false, 1.0, x.path_energy_threshold);
+    if (n["diffuse_bounces"])
+        x.diffuse_bounces = static_cast<int>(
+            r.integer(n["diffuse_bounces"], "receiver.diffuse_bounces", 0, kMaxPathDepth - 1));
     get("overlap_range_m", 0, 1e4, false, 1.0, x.overlap_range_m);
     if (const YAML::Node m = n["speckle_cells"]) {  // auto, 0 (off) or M ≥ 1
         const char* key = "receiver.speckle_cells";

@@ -61,6 +61,9 @@ struct ReceiverParams {
     // first hit only), and the path weight below which it goes on only by Russian roulette.
     int max_path_depth = 4;
     double path_energy_threshold = 1e-3;
+    // Diffuse bounces a path may take (docs/time-resolved.md §5): each bounce point inside the
+    // receiver's field of view and in its sight adds light at the whole path's delay; 0: none.
+    int diffuse_bounces = 0;
     // Transmitter–receiver overlap O(R) = 1 − exp(−(R/R_o)²) with this R_o (0: full overlap
     // everywhere); weighs the atmosphere's volume backscatter (docs/time-resolved.md §6).
     double overlap_range_m = 0.0;
