@@ -70,13 +70,13 @@ void PulseShader::trace_part(RayBatch& g, std::vector<Hit>& hits, bool probes) c
     for (std::size_t b = 0; b < g.block_done.size(); ++b) {
         const std::size_t r = b * per;
         if (!probes && g.block_done[b]) {
-            for (std::size_t s = 0; s < per; ++s)
-                if (!probes_[s]) hits[r + s].t = std::numeric_limits<float>::infinity();
+            for (const std::uint32_t s : rest_at_)
+                hits[r + s].t = std::numeric_limits<float>::infinity();
             continue;
         }
         if (!probes) g.builder->complete(g, r);
-        for (std::size_t s = 0; s < per; ++s)
-            if ((probes_[s] != 0) == probes) g.part_at.push_back(static_cast<std::uint32_t>(r + s));
+        for (const std::uint32_t s : probes ? probe_at_ : rest_at_)
+            g.part_at.push_back(static_cast<std::uint32_t>(r + s));
     }
     renderer_.intersect_some(g.rays, g.part_at, hits);
     g.traced += g.part_at.size();
@@ -88,8 +88,7 @@ PlaneFootprint PulseShader::plane_footprint(const RayBatch& g, const std::vector
                                             std::uint32_t r) const {
     PlaneFootprint out;
     bool any = false, all = true;
-    for (std::size_t s = 0; s < probes_.size(); ++s) {
-        if (!probes_[s]) continue;
+    for (const std::uint32_t s : probe_at_) {
         if (hits[r + s].hit())
             any = true;
         else
@@ -127,8 +126,7 @@ bool PulseShader::on_plane(const RayBatch& g, const std::vector<Hit>& hits, std:
     const double px = rc.ox + double(c.t) * rc.dx, py = rc.oy + double(c.t) * rc.dy,
                  pz = rc.oz + double(c.t) * rc.dz;
     const double tol = kPlaneTolM + kPlaneTolRel * double(c.t);
-    for (std::size_t s = 0; s < probes_.size(); ++s) {
-        if (!probes_[s]) continue;
+    for (const std::uint32_t s : probe_at_) {
         const Hit& h = hits[r + s];
         const Ray& ray = g.rays[r + s];
         if (h.material != c.material || h.t < rx.min_range_m || h.t > rx.max_range_m) return false;

@@ -157,6 +157,8 @@ PulseShader::PulseShader(const Setup& setup)
     }
     if (sensor_.beam.adaptive_footprint) {
         probes_ = footprint_probes(std::size_t(sensor_.beam.sub_rays));
+        for (std::uint32_t s = 0; s < probes_.size(); ++s)
+            (probes_[s] ? probe_at_ : rest_at_).push_back(s);
         m2_ = footprint_m2();
         const double t =
             std::tan(0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius);

@@ -369,6 +369,7 @@ class PulseShader {
     // Adaptive footprints: which sub-rays are probes (empty: sampled), the footprint's mean
     // square offset tangent per axis and its largest offset tangent squared.
     std::vector<std::uint8_t> probes_;
+    std::vector<std::uint32_t> probe_at_, rest_at_;  // the probes' sub-ray indices, the others'
     double m2_ = 0, max_offset2_ = 0;
     // Diffuse bounces per path (receiver.diffuse_bounces) and cos of the receiver's half IFOV.
     int bounces_ = 0;

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "mirage/core/error.hpp"
+#include "mirage/core/exp_poly.hpp"
 #include "mirage/core/rng.hpp"
 #include "mirage/physics/speckle.hpp"
 #include "shading.hpp"
@@ -273,7 +274,7 @@ double PulseShader::fit_deviation(const physics::Echo& e, std::int64_t j0, doubl
     double sum = 0;
     for (std::int64_t j = e.first; j < e.end; ++j) {
         const double u = double(j) * dt - e.time_ns;
-        const double model = baseline + e.amplitude_counts * std::exp(-u * u * inv);
+        const double model = baseline + e.amplitude_counts * core::exp_poly(-u * u * inv);
         const double r = scratch.counts[static_cast<std::size_t>(j - j0)] - model;
         sum += r * r;
     }
