@@ -44,12 +44,12 @@ void PulseShader::trace(RayBatch& g, std::vector<Hit>& hits) const {
 void PulseShader::trace_footprints(RayBatch& g, std::vector<Hit>& hits) const {
     hits.resize(g.rays.size());
     g.plane.clear();
-    if (probes_.empty()) {
+    if (probe_at_.empty()) {
         renderer_.intersect(g.rays, hits);
         g.traced = g.rays.size();
         return;
     }
-    const std::size_t per = probes_.size(), blocks = g.specs.size();
+    const std::size_t per = probe_at_.size() + rest_at_.size(), blocks = g.specs.size();
     g.traced = 0;
     g.block_done.assign(blocks, 0);
     trace_part(g, hits, true);
@@ -65,7 +65,7 @@ void PulseShader::trace_footprints(RayBatch& g, std::vector<Hit>& hits) const {
 // One pass in tracing order: the probes of every pulse, or the other sub-rays of the pulses not
 // done (made now); a skipped sub-ray reads as a miss (its hit's range is +inf).
 void PulseShader::trace_part(RayBatch& g, std::vector<Hit>& hits, bool probes) const {
-    const std::size_t per = probes_.size();
+    const std::size_t per = probe_at_.size() + rest_at_.size();
     g.part_at.clear();
     for (std::size_t b = 0; b < g.block_done.size(); ++b) {
         const std::size_t r = b * per;

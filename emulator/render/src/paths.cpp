@@ -195,9 +195,9 @@ void PulseShader::add_bounce(std::uint64_t first_pulse, const PathParent& q, Pat
 // so both detectors place its light at the path's delay.
 void PulseShader::next_events(const RayBatch& g, std::vector<Hit>& hits, PathScratch& p) const {
     p.nee.assign(p.rays.size(), -1.0);
-    std::vector<Ray> shadow;
-    std::vector<std::uint32_t> of;
-    std::vector<double> r2;
+    p.shadow.clear();
+    p.shadow_of.clear();
+    p.shadow_term.clear();
     for (std::size_t k = 0; k < p.rays.size(); ++k) {
         if (!p.open[k]) continue;
         p.nee[k] = 0.0;
@@ -223,14 +223,14 @@ void PulseShader::next_events(const RayBatch& g, std::vector<Hit>& hits, PathScr
         s.dz = static_cast<float>(v.z());
         s.tnear = kStep_m;
         s.tfar = static_cast<float>(dist) - kStep_m;
-        shadow.push_back(s);
-        of.push_back(static_cast<std::uint32_t>(k));
-        r2.push_back(cos_r / (dist * dist));
+        p.shadow.push_back(s);
+        p.shadow_of.push_back(static_cast<std::uint32_t>(k));
+        p.shadow_term.push_back(cos_r / (dist * dist));
     }
-    std::vector<Hit> blocked(shadow.size());
-    renderer_.intersect(shadow, blocked);
-    for (std::size_t j = 0; j < shadow.size(); ++j)
-        if (!blocked[j].hit()) p.nee[of[j]] = r2[j];
+    p.blocked.resize(p.shadow.size());
+    renderer_.intersect(p.shadow, p.blocked);
+    for (std::size_t j = 0; j < p.shadow.size(); ++j)
+        if (!p.blocked[j].hit()) p.nee[p.shadow_of[j]] = p.shadow_term[j];
 }
 
 // The continuations of each pulse as entries, in the order they were made (a counting sort).

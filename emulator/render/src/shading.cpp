@@ -9,6 +9,7 @@
 #include "mirage/core/exp_poly.hpp"
 #include "mirage/core/rng.hpp"
 #include "mirage/physics/speckle.hpp"
+#include "mirage/sensor/presets.hpp"
 
 namespace mirage::render {
 namespace {
@@ -146,19 +147,18 @@ PulseShader::PulseShader(const Setup& setup)
     }
     speckle_m_ = sensor::speckle_cells(sensor_);
     bounces_ = sensor_.receiver.diffuse_bounces;
-    {  // the pixel's IFOV (docs/physics.md eq. 5): pixel diameter over the focal length
+    {  // the pixel's field of view and its share of the spot (docs/physics.md eq. 4′)
         const auto& rx = sensor_.receiver;
-        const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
         const double f = rx.f_number * rx.aperture_diameter_m;
-        fov_cos_ = std::cos(std::min(0.5 * pixel_d / f, 0.5 * std::numbers::pi));
+        fov_cos_ = std::cos(std::min(0.5 * sensor::ifov_rad(rx), 0.5 * std::numbers::pi));
         const double t = std::tan(0.5 * sensor_.beam.divergence_rad);
         const double spot = std::numbers::pi * t * t, pix = rx.detector_area_m2 / (f * f);
         if (spot > 0.0 && pix > 0.0) nee_scale_ = spot / std::min(spot, pix);
     }
     if (sensor_.beam.adaptive_footprint) {
-        probes_ = footprint_probes(std::size_t(sensor_.beam.sub_rays));
-        for (std::uint32_t s = 0; s < probes_.size(); ++s)
-            (probes_[s] ? probe_at_ : rest_at_).push_back(s);
+        const auto probes = footprint_probes(std::size_t(sensor_.beam.sub_rays));
+        for (std::uint32_t s = 0; s < probes.size(); ++s)
+            (probes[s] ? probe_at_ : rest_at_).push_back(s);
         m2_ = footprint_m2();
         const double t =
             std::tan(0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius);

@@ -55,6 +55,11 @@ struct PathScratch {
     // hidden), −1 for a closed one.
     std::vector<std::uint8_t> open, bounces;
     std::vector<double> nee;
+    // next_events' shadow rays: their rays, hits, continuations and cos θ_r/R².
+    std::vector<Ray> shadow;
+    std::vector<Hit> blocked;
+    std::vector<std::uint32_t> shadow_of;
+    std::vector<double> shadow_term;
     std::vector<std::uint32_t> first,
         order;  // continuations of pulse i (entries): order[first[i], first[i+1])
     std::vector<Ray> round_rays;
@@ -366,9 +371,9 @@ class PulseShader {
     // fraction to its centroid, added to every edge so a lone echo is timed as its peak.
     double cfd_offset_ns_ = 0;
     double speckle_m_ = 0;  // speckle cells M, 0: none
-    // Adaptive footprints: which sub-rays are probes (empty: sampled), the footprint's mean
+    // Adaptive footprints: which sub-rays are probes and which not (both empty: sampled), the
+    // footprint's mean
     // square offset tangent per axis and its largest offset tangent squared.
-    std::vector<std::uint8_t> probes_;
     std::vector<std::uint32_t> probe_at_, rest_at_;  // the probes' sub-ray indices, the others'
     double m2_ = 0, max_offset2_ = 0;
     // Diffuse bounces per path (receiver.diffuse_bounces) and cos of the receiver's half IFOV.

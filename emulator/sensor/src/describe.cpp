@@ -78,8 +78,7 @@ std::string describe(const SensorModel& m) {
         out += fmt::format("  footprint: sub-rays out to {:.2f} 1/e^2 radii\n", b.footprint_radius);
     if (b.adaptive_footprint)
         out += "  footprint: adaptive (probes first; one plane in closed form)\n";
-    const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
-    const double ifov = pixel_d / (rx.f_number * rx.aperture_diameter_m);
+    const double ifov = ifov_rad(rx);
     const double per_sigma = noise_sigma_for_floor(1.0, b, rx);
     out += fmt::format(
         "  receiver: aperture {:.2f} mm f/{:.2f}, detector {:.5f} mm2 (IFOV {:.2f} mrad), "

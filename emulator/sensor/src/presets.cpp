@@ -230,6 +230,11 @@ double detector_area_for_ifov(double ifov_rad, double aperture_diameter_m, doubl
     return std::numbers::pi * 0.25 * d * d;
 }
 
+double ifov_rad(const ReceiverParams& rx) {
+    const double pixel_d = std::sqrt(4.0 * rx.detector_area_m2 / std::numbers::pi);
+    return pixel_d / (rx.f_number * rx.aperture_diameter_m);
+}
+
 double noise_sigma_for_floor(double electrons, const BeamParams& beam, const ReceiverParams& rx) {
     const double tau = rx.integration_time_s > 0 ? rx.integration_time_s : beam.pulse_width_s;
     const double band_um = rx.detector_bandwidth_m * 1e6;

@@ -9,6 +9,8 @@ namespace mirage::sensor {
 // Detector area whose IFOV (full angle) is `ifov_rad` behind an aperture of diameter D at f/#:
 // focal length F#·D, pixel diameter IFOV·F#·D.
 double detector_area_for_ifov(double ifov_rad, double aperture_diameter_m, double f_number);
+// Its inverse: the receiver's IFOV (full angle, rad), pixel diameter over focal length.
+double ifov_rad(const ReceiverParams& rx);
 
 // σ₁ (W/(m²·µm)) that makes the detector noise floor of docs/physics.md eq. (12) equal `electrons`:
 // floor = τ_int·σ₁·λ_mid·Δλ_det[µm]·A_pix·η/(h·c), τ_int = pulse width when unset.
