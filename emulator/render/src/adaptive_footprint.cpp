@@ -99,7 +99,7 @@ PlaneFootprint PulseShader::plane_footprint(const RayBatch& g, const std::vector
         return out;
     }
     const Hit& c = hits[r];
-    if (!all || !c.hit() || !on_plane(g, hits, r)) return out;
+    if (!all || !on_plane(g, hits, r)) return out;  // (all: the central one hit too)
     const double cos_i = incidence(g.rays[r], c);
     if (!(cos_i > 0.0)) return out;
     const double tan2 = (1.0 - cos_i * cos_i) / (cos_i * cos_i);

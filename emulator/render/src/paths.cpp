@@ -19,6 +19,22 @@ namespace {
 constexpr std::uint32_t kRouletteStream = 2;  // 0: discrete returns, 1: waveform noise
 constexpr float kStep_m = 1e-3f;              // past the surface just left
 
+// A ray leaving the point f along `ray` (where it hit), one step on; its direction is set after.
+Ray leaving(const Ray& ray, float f) {
+    Ray r;
+    r.ox = ray.ox + f * ray.dx;
+    r.oy = ray.oy + f * ray.dy;
+    r.oz = ray.oz + f * ray.dz;
+    r.tnear = kStep_m;
+    return r;
+}
+
+void aim(Ray& r, const Eigen::Vector3d& d) {
+    r.dx = static_cast<float>(d.x());
+    r.dy = static_cast<float>(d.y());
+    r.dz = static_cast<float>(d.z());
+}
+
 }  // namespace
 
 bool PulseShader::any_continuing(const std::vector<Hit>& hits) const {
@@ -141,15 +157,10 @@ void PulseShader::spawn(std::uint64_t first_pulse, const PathParent& q, PathScra
     }
     if (mirror > 0.0) {
         const float dn = ray.dx * h.nx + ray.dy * h.ny + ray.dz * h.nz;
-        const auto f = static_cast<float>(seg);
-        Ray r;
-        r.ox = ray.ox + f * ray.dx;
-        r.oy = ray.oy + f * ray.dy;
-        r.oz = ray.oz + f * ray.dz;
+        Ray r = leaving(ray, static_cast<float>(seg));
         r.dx = ray.dx - 2 * dn * h.nx;
         r.dy = ray.dy - 2 * dn * h.ny;
         r.dz = ray.dz - 2 * dn * h.nz;
-        r.tnear = kStep_m;
         push_continuation(first_pulse, q, r, mirror, h.t, 2, p, stats);
     }
     if (q.bounces < bounces_ && m.reflectance > 0.0) add_bounce(first_pulse, q, p, stats);
@@ -176,15 +187,8 @@ void PulseShader::add_bounce(std::uint64_t first_pulse, const PathParent& q, Pat
     orthonormal_basis(n, a, b);
     const Eigen::Vector3d d =
         r * std::cos(phi) * a + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u1)) * n;
-    const auto f = static_cast<float>(h.t - q.base);
-    Ray out;
-    out.ox = ray.ox + f * ray.dx;
-    out.oy = ray.oy + f * ray.dy;
-    out.oz = ray.oz + f * ray.dz;
-    out.dx = static_cast<float>(d.x());
-    out.dy = static_cast<float>(d.y());
-    out.dz = static_cast<float>(d.z());
-    out.tnear = kStep_m;
+    Ray out = leaving(ray, static_cast<float>(h.t - q.base));
+    aim(out, d);
     push_continuation(first_pulse, open, out, scene_.materials[h.material].reflectance, h.t, 0, p,
                       stats);
 }
@@ -218,9 +222,7 @@ void PulseShader::next_events(const RayBatch& g, std::vector<Hit>& hits, PathScr
         s.ox = static_cast<float>(x.x());
         s.oy = static_cast<float>(x.y());
         s.oz = static_cast<float>(x.z());
-        s.dx = static_cast<float>(v.x());
-        s.dy = static_cast<float>(v.y());
-        s.dz = static_cast<float>(v.z());
+        aim(s, v);
         s.tnear = kStep_m;
         s.tfar = static_cast<float>(dist) - kStep_m;
         p.shadow.push_back(s);

@@ -179,7 +179,7 @@ void RayBatchBuilder::make_rays(RayBatch& g) const {
             base.tfar = tfar;
             g.rays[r++] = base;
             if (s_count == 1) continue;
-            add_subrays(base, d, &g.rays[r], !probes_.empty());
+            add_subrays(base, d, &g.rays[r], probes_.empty() ? Part::All : Part::Probes);
             r += s_count - 1;
         }
     }
@@ -189,12 +189,12 @@ void RayBatchBuilder::make_rays(RayBatch& g) const {
 // rays are float anyway, and the offsets are milliradians, far above float's 6e-8 relative
 // resolution.
 void RayBatchBuilder::add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out,
-                                  bool probes_only) const {
+                                  Part part) const {
     Eigen::Vector3d u, v;
     orthonormal_basis(d, u, v);
     const Eigen::Vector3f df = d.cast<float>(), uf = u.cast<float>(), vf = v.cast<float>();
     for (std::size_t s = 1; s < subrays_.size(); ++s) {
-        if (probes_only && !probes_[s]) continue;
+        if (part != Part::All && (probes_[s] != 0) != (part == Part::Probes)) continue;
         const Eigen::Vector3f ds =
             (df + tanf_[s].first * uf + tanf_[s].second * vf) * inv_normf_[s];
         Ray ray = base;
@@ -208,29 +208,16 @@ void RayBatchBuilder::add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray
 // Around the central ray as traced (a wandering beam's turned one), in the probes' place kept.
 void RayBatchBuilder::complete(RayBatch& g, std::size_t r) const {
     const Ray& c = g.rays[r];
-    const Eigen::Vector3d d = Eigen::Vector3d(c.dx, c.dy, c.dz).normalized();
-    Eigen::Vector3d u, v;
-    orthonormal_basis(d, u, v);
-    const Eigen::Vector3f df = d.cast<float>(), uf = u.cast<float>(), vf = v.cast<float>();
-    for (std::size_t s = 1; s < subrays_.size(); ++s) {
-        if (probes_[s]) continue;
-        const Eigen::Vector3f ds =
-            (df + tanf_[s].first * uf + tanf_[s].second * vf) * inv_normf_[s];
-        Ray& ray = g.rays[r + s];
-        ray = c;
-        ray.dx = ds.x();
-        ray.dy = ds.y();
-        ray.dz = ds.z();
-    }
+    add_subrays(c, Eigen::Vector3d(c.dx, c.dy, c.dz).normalized(), &g.rays[r + 1], Part::Rest);
 }
 
 std::vector<std::uint8_t> footprint_probes(std::size_t subrays) {
     std::vector<std::uint8_t> mask(subrays, 0);
     if (subrays == 0) return mask;
     mask[0] = 1;
-    std::size_t k = 0;  // rings
-    while (1 + 3 * (k + 1) * (k + 2) <= subrays) ++k;
-    if (k == 0) return mask;
+    const int rings = sensor::ring_count(static_cast<int>(subrays));
+    if (rings <= 0) return mask;
+    const auto k = static_cast<std::size_t>(rings);
     const std::size_t outer = 1 + 3 * k * (k - 1);
     for (std::size_t p = 0; p < 6; ++p) mask[outer + p * k] = 1;
     return mask;

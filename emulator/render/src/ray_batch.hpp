@@ -53,6 +53,10 @@ struct RayBatch {
     Eigen::Vector3d origin_of(std::size_t i) const {
         return {origin[0][i], origin[1][i], origin[2][i]};
     }
+    // Pulse i's footprint was taken in closed form on one plane (adaptive footprints).
+    bool planar(std::size_t i) const {
+        return !plane.empty() && plane[i].kind == PlaneFootprint::kPlane;
+    }
     Eigen::Vector3d direction_of(std::size_t i) const {
         return {direction[0][i], direction[1][i], direction[2][i]};
     }
@@ -91,7 +95,9 @@ class RayBatchBuilder {
     void load_pulses(std::uint64_t first, std::size_t n, RayBatch& g) const;
     void blend_batch_poses(RayBatch& g) const;
     void make_rays(RayBatch& g) const;
-    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out, bool probes_only) const;
+    // Which sub-rays add_subrays() makes: all, or an adaptive footprint's probes, or the others.
+    enum class Part { All, Probes, Rest };
+    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out, Part part) const;
 
     const sensor::SensorModel& sensor_;
     const core::Trajectory& trajectory_;

@@ -70,7 +70,7 @@ void PulseShader::clustered_returns(const RayBatch& g, const std::vector<Hit>& h
     Contribution* buffer = scratch.contributions.data();  // a pulse's: buffer[0, count)
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t r = g.first_ray[i];
-        if (!g.plane.empty() && g.plane[i].kind == PlaneFootprint::kPlane) {
+        if (g.planar(i)) {
             // One plane (adaptive_footprint.cpp): its closed form is the pulse's one return.
             const PlaneFootprint& f = g.plane[i];
             scratch.pending.push_back({f.range_m, power_k_ * terms[r] * f.power_factor,

@@ -102,7 +102,7 @@ PulseShader::PulseShader(const Setup& setup)
       // Angle between neighbouring sub-rays (the footprint's ring spacing, beam radius / k).
       cell_rad_(sensor_.beam.sub_rays > 1
                     ? 0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius /
-                          std::round((std::sqrt(12.0 * sensor_.beam.sub_rays - 3.0) - 3.0) / 6.0)
+                          sensor::ring_count(sensor_.beam.sub_rays)
                     : 0.0),
       // Received power of unit weight, range, BRDF, incidence and transmission: every sub-ray's
       // power is this times w·brdf·cos θ·τ²/R² (eqs. 2–4 with the constants folded).

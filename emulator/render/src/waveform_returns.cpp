@@ -49,7 +49,7 @@ bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits
         out.push_back({delay, static_cast<float>(pe), e});
     };
     const std::uint32_t r = g.first_ray[i];
-    if (!g.plane.empty() && g.plane[i].kind == PlaneFootprint::kPlane) {
+    if (g.planar(i)) {
         plane_arrivals(g.plane[i], terms[r] * power_k_ * e_per_w, r, out);
         return false;
     }

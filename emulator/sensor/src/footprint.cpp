@@ -7,9 +7,6 @@
 #include "mirage/sensor/sensor.hpp"
 
 namespace mirage::sensor {
-namespace {
-
-// Rings k with 1 + 3·k·(k + 1) == n, or −1.
 int ring_count(int n) {
     for (int k = 0;; ++k) {
         const long long count = 1 + 3LL * k * (k + 1);
@@ -17,8 +14,6 @@ int ring_count(int n) {
         if (count > n) return -1;
     }
 }
-
-}  // namespace
 
 bool is_hex_count(int n) { return n >= 1 && ring_count(n) >= 0; }
 

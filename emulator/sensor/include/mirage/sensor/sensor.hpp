@@ -191,5 +191,7 @@ std::vector<SubRay> footprint(int n, BeamProfile profile, double divergence_rad,
                               double extent = 1.0);
 // True for the hexagonal counts footprint() accepts: 1 + 3·k·(k + 1), k ≥ 0.
 bool is_hex_count(int n);
+// The rings k of a hexagonal count n = 1 + 3·k·(k + 1), or −1 for any other n.
+int ring_count(int n);
 
 }  // namespace mirage::sensor
