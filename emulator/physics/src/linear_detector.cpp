@@ -57,9 +57,16 @@ void LinearDetector::digitise(const double* n_pe, const double* z, std::size_t n
         for (std::size_t j = 0; j < n; ++j) counts[j] = off + g * n_pe[j];
         return;
     }
+    // Members in locals and restrict pointers: `counts` could otherwise alias *this, and every
+    // sample would reload them in a scalar loop.
+    const double excess = excess_, th2 = p_.thermal_noise_pe * p_.thermal_noise_pe;
+    const double top = full_scale_;
+    const double* __restrict in = n_pe;
+    const double* __restrict zz = z;
+    double* __restrict out = counts;
     for (std::size_t j = 0; j < n; ++j) {
-        const double y = off + g * n_pe[j] + sigma_counts(n_pe[j]) * z[j];
-        counts[j] = std::clamp(std::nearbyint(y), 0.0, full_scale_);
+        const double sigma = g * std::sqrt(excess * std::max(0.0, in[j]) + th2);  // sigma_counts
+        out[j] = std::clamp(std::nearbyint(off + g * in[j] + sigma * zz[j]), 0.0, top);
     }
 }
 

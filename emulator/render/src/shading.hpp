@@ -102,10 +102,23 @@ struct PathParent {
 };
 
 // Samples [j0, j1) digitised as one waveform: arrivals [a, b) and, where it overlaps, the
-// atmosphere's volume backscatter (waveform_returns.cpp).
+// atmosphere's volume backscatter (waveform_returns.cpp). Its samples sit from `at` in the
+// batch's waveform buffers, padded to whole Philox blocks of four.
 struct SampleGroup {
     std::int64_t j0, j1;
     std::size_t a, b;
+    std::size_t at = 0;
+    std::size_t size() const { return static_cast<std::size_t>(j1 - j0); }
+};
+
+// One pulse of a batch whose waveform the linear detector digitises: its arrivals [a, b) and
+// groups [g0, g1) in the batch's buffers, its floor (background and dark photo-electrons per
+// sample), energy factor, and the first Philox block of stream 1 its groups left unused.
+struct PulseWave {
+    std::uint32_t i;
+    std::size_t a, b, g0, g1;
+    double floor_pe, energy;
+    std::uint32_t next_block;
 };
 
 // Philox stream of each pulse's energy factor (0: discrete returns, 1: waveform noise, 2: the
@@ -139,6 +152,7 @@ struct ShadeScratch {
     std::vector<std::uint64_t> pulse;
     std::vector<std::uint32_t> block;
     std::array<std::vector<std::uint32_t>, 4> words;
+    std::vector<std::uint32_t> sample_words;     // the waveform's words in sample order
     std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
     std::vector<Contribution> contributions;
     std::vector<double> ray_terms;  // per ray: brdf·cos θ·τ²/R², see ray_terms() in shading.cpp
@@ -153,16 +167,19 @@ struct ShadeScratch {
     std::vector<std::int64_t> steps;         // (that range in resolution steps)
     std::array<std::vector<double>, 3> dir;  // and beam direction, turned by the jitter
     std::array<std::vector<double>, 3> at;   // and point position (local frame)
-    // The linear-mode detector's (waveform_returns.cpp): one pulse at a time.
+    // The linear-mode detector's (waveform_returns.cpp): a pulse's arrivals as they are made,
+    // then the batch's pulses, arrivals and sample groups, digitised in one pass (wave: expected
+    // photo-electrons, wave_z: noise, counts) and searched for echoes pulse by pulse.
     std::vector<physics::Arrival> arrivals;
     PathScratch path;
     bool paths = false;  // this batch has continuations (path.* valid)
-    std::vector<double> wave, wave_z, counts, pulse_template;
-    std::vector<physics::Echo> echoes;
-    std::uint32_t next_block = 0;  // the pulse's next Philox block of stream 1
+    std::vector<PulseWave> pulse_waves;
+    std::vector<physics::Arrival> wave_arrivals;
     std::vector<SampleGroup> groups;
+    std::vector<double> wave, wave_z, counts, pulse_template;
+    std::vector<double> gap_wave, gap_z, gap_counts;  // a recorded window's samples between groups
+    std::vector<physics::Echo> echoes;
     std::int64_t wave_first = 0;  // the pulse's first digitised sample
-    double energy = 1.0;          // the pulse's energy factor (beam.energy_sigma)
     // Per pending return (linear detector only): amplitude, width, deviation, recorded waveform.
     std::vector<EchoFields> echo_fields;
     // A render recording waveforms (waveform_record.cpp): the pulse's window, NaN where no
@@ -261,36 +278,42 @@ class PulseShader {
     void merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const;
     void plane_arrivals(const PlaneFootprint& f, double central_pe, std::uint32_t hit,
                         std::vector<physics::Arrival>& out) const;
-    double floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const;
-    void detect_waveform(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch) const;
-    void detect_group(std::uint64_t pulse, const SampleGroup& g, double floor_pe,
-                      std::uint32_t& block, std::size_t& found, ShadeScratch& scratch) const;
+    double floor_pe_per_sample(const std::vector<Hit>& hits,
+                               std::span<const physics::Arrival> arrivals) const;
+    bool gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                      const std::vector<double>& weighted_k, std::uint32_t i,
+                      ShadeScratch& scratch) const;
+    void digitise_batch(std::uint64_t first_pulse, ShadeScratch& scratch) const;
+    void detect_pulse(std::uint64_t first_pulse, const PulseWave& w, ShadeScratch& scratch,
+                      ShadedPoints& out) const;
+    void detect_group(const SampleGroup& g, double floor_pe, std::size_t& found,
+                      ShadeScratch& scratch) const;
     // volume.cpp: the atmosphere's backscatter in the waveform.
     void init_volume();
     void convolve_volume();
-    void sample_groups(ShadeScratch& scratch) const;
+    void sample_groups(std::span<const physics::Arrival> arr, std::size_t base,
+                       std::vector<SampleGroup>& groups) const;
     void add_volume(std::int64_t j0, std::span<double> wave, double scale) const;
     bool in_volume(double time_ns) const;
-    void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
-                      ShadeScratch& scratch) const;
-    void add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
-                    std::uint32_t wave, ShadeScratch& scratch) const;
-    double matched_time_ns(const physics::Echo& e, std::int64_t j0, double baseline,
+    void draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t block,
+                      std::vector<double>& z, ShadeScratch& scratch) const;
+    void normals_of_blocks(std::size_t blocks, std::vector<double>& z, ShadeScratch& scratch) const;
+    void add_echoes(std::uint32_t i, std::span<const physics::Arrival> arrivals, std::uint32_t wave,
+                    ShadeScratch& scratch) const;
+    double matched_time_ns(const physics::Echo& e, const double* counts, double baseline,
                            ShadeScratch& scratch) const;
     void time_echoes(const SampleGroup& g, double baseline, std::size_t from, std::size_t to,
                      ShadeScratch& scratch) const;
     double calibrate_cfd() const;
     EchoFields echo_fields(const physics::Echo& e, std::uint32_t wave,
                            std::int64_t wave_first) const;
-    double fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
-                         const ShadeScratch& scratch) const;
+    double fit_deviation(const physics::Echo& e, const double* counts, double baseline) const;
     void check_recording() const;
     // The pulse's energy relative to the sensor's (beam.energy_sigma; 1 when it is 0).
     double energy_factor(std::uint64_t pulse) const;
     void vary_returns(std::uint64_t first, ShadeScratch& scratch) const;
     // Speckle applies with noise on, when the sensor has speckle cells (time-resolved.md §6).
     bool speckle_on() const { return opt_.noise && speckle_m_ >= 1.0; }
-    void scale_group(const SampleGroup& g, double factor, ShadeScratch& scratch) const;
     // beam_wander.cpp: each pulse's beam turned by the turbulence's wander at its first range.
     void wander(RayBatch& g, const std::vector<Hit>& hits) const;
     // adaptive_footprint.cpp: probes first, a plane's footprint in closed form.
@@ -314,8 +337,8 @@ class PulseShader {
                     RenderStats& stats) const;
     void next_events(const RayBatch& g, std::vector<Hit>& hits, PathScratch& p) const;
     // waveform_record.cpp: the digitised window a render records per pulse with returns.
-    void record_group(std::int64_t j0, ShadeScratch& scratch) const;
-    std::uint32_t record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
+    void record_group(const SampleGroup& g, ShadeScratch& scratch) const;
+    std::uint32_t record_pulse(std::uint64_t pulse, const PulseWave& w, ShadeScratch& scratch,
                                std::vector<std::uint32_t>& samples) const;
 
     // shading.cpp: pending returns -> points.

@@ -73,19 +73,18 @@ void PulseShader::convolve_volume() {
     volume_pe_ = std::move(conv);
 }
 
-// The pulse's sample groups in time order: each arrival group, and the volume samples merged
-// into the groups they overlap (or a group of their own).
-void PulseShader::sample_groups(ShadeScratch& scratch) const {
-    const auto& arr = scratch.arrivals;
-    auto& groups = scratch.groups;
-    groups.clear();
+// The pulse's sample groups in time order, appended to `groups` with its arrivals numbered from
+// `base`: each arrival group, and the volume samples merged into the groups they overlap (or a
+// group of their own).
+void PulseShader::sample_groups(std::span<const physics::Arrival> arr, std::size_t base,
+                                std::vector<SampleGroup>& groups) const {
     const std::int64_t v0 = volume_first_, v1 = v0 + std::int64_t(volume_pe_.size());
     bool volume = !volume_pe_.empty();
     for (std::size_t a = 0; a < arr.size();) {
         std::int64_t j0 = synth_->first_sample(arr[a].delay_ps);
         std::int64_t j1 = synth_->end_sample(arr[a].delay_ps);
         if (volume && v1 < j0) {
-            groups.push_back({v0, v1, a, a});
+            groups.push_back({v0, v1, base + a, base + a});
             volume = false;
         } else if (volume && v0 <= j1) {
             j0 = std::min(j0, v0);
@@ -95,10 +94,10 @@ void PulseShader::sample_groups(ShadeScratch& scratch) const {
         std::size_t b = a + 1;
         for (; b < arr.size() && synth_->first_sample(arr[b].delay_ps) <= j1; ++b)
             j1 = std::max(j1, synth_->end_sample(arr[b].delay_ps));
-        groups.push_back({j0, j1, a, b});
+        groups.push_back({j0, j1, base + a, base + b});
         a = b;
     }
-    if (volume) groups.push_back({v0, v1, arr.size(), arr.size()});
+    if (volume) groups.push_back({v0, v1, base + arr.size(), base + arr.size()});
 }
 
 // wave[j − j0] += the volume's photo-electrons in sample j (times the pulse's energy factor),

@@ -9,34 +9,35 @@
 
 namespace mirage::render {
 
-// One arrival group's digitised counts (scratch.counts, from sample j0) into the pulse's window.
-void PulseShader::record_group(std::int64_t j0, ShadeScratch& scratch) const {
+// One arrival group's digitised counts into the pulse's window.
+void PulseShader::record_group(const SampleGroup& g, ShadeScratch& scratch) const {
     const auto window = static_cast<std::int64_t>(scratch.record.size());
-    for (std::size_t k = 0; k < scratch.counts.size(); ++k) {
-        const std::int64_t at = j0 + static_cast<std::int64_t>(k) - scratch.wave_first;
+    const double* counts = scratch.counts.data() + g.at;
+    for (std::size_t k = 0; k < g.size(); ++k) {
+        const std::int64_t at = g.j0 + static_cast<std::int64_t>(k) - scratch.wave_first;
         if (at >= window) break;
-        scratch.record[static_cast<std::size_t>(at)] = scratch.counts[k];
+        scratch.record[static_cast<std::size_t>(at)] = counts[k];
     }
 }
 
 // Completes the window: samples between and after the arrival groups hold the floor (background
 // and dark photo-electrons, noise drawn from the pulse's stream 1 after the groups' draws). The
 // window is appended to `samples`; returns the index of its first sample.
-std::uint32_t PulseShader::record_pulse(std::uint64_t pulse, double floor_pe, ShadeScratch& scratch,
+std::uint32_t PulseShader::record_pulse(std::uint64_t pulse, const PulseWave& w,
+                                        ShadeScratch& scratch,
                                         std::vector<std::uint32_t>& samples) const {
     const bool noisy = opt_.noise;
     std::size_t gaps = 0;
     for (const double v : scratch.record) gaps += std::isnan(v);
     if (gaps > 0) {
-        scratch.wave.assign(gaps, noisy ? floor_pe : 0.0);
-        scratch.counts.resize(gaps);
-        std::uint32_t block = scratch.next_block;
-        if (noisy) draw_normals(pulse, gaps, block, scratch);
-        linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, gaps,
-                          scratch.counts.data());
+        scratch.gap_wave.assign(gaps, noisy ? w.floor_pe : 0.0);
+        scratch.gap_counts.resize(gaps);
+        if (noisy) draw_normals(pulse, gaps, w.next_block, scratch.gap_z, scratch);
+        linear_->digitise(scratch.gap_wave.data(), noisy ? scratch.gap_z.data() : nullptr, gaps,
+                          scratch.gap_counts.data());
         std::size_t g = 0;
         for (double& v : scratch.record)
-            if (std::isnan(v)) v = scratch.counts[g++];
+            if (std::isnan(v)) v = scratch.gap_counts[g++];
     }
     const auto first = static_cast<std::uint32_t>(samples.size());
     // Counts are whole numbers but for a noise-free render, whose expected counts are kept.

@@ -19,6 +19,9 @@ constexpr double kPsPerMeterTwoWay = 2e12 / physics::kSpeedOfLightMPerS;
 constexpr double kMetersPerNsOneWay = 0.5e-9 * physics::kSpeedOfLightMPerS;
 constexpr std::uint32_t kWaveformStream = 1;  // stream 0: the discrete returns' draws
 
+// Where group g's samples end in the batch's buffers: padded to whole Philox blocks.
+std::size_t end_of(const SampleGroup& g) { return g.at + 4 * ((g.size() + 3) / 4); }
+
 }  // namespace
 
 bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits,
@@ -101,54 +104,136 @@ void PulseShader::merge_close_arrivals(std::vector<physics::Arrival>& arrivals) 
     arrivals.resize(out);
 }
 
+// The batch's waveforms in three passes: each pulse's arrivals and sample groups; every group's
+// samples synthesised, noised and digitised together (a pulse has a few tens of samples, too few
+// for the generator's and digitiser's loops to vectorise one pulse at a time); then each pulse's
+// echoes.
 void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hits,
                                    const double* terms, const std::vector<double>& weighted_k,
                                    ShadeScratch& scratch, ShadedPoints& out) const {
-    auto& arrivals = scratch.arrivals;
     scratch.echo_fields.clear();
+    scratch.pulse_waves.clear();
+    scratch.wave_arrivals.clear();
+    scratch.groups.clear();
     for (std::uint32_t i = 0; i < g.specs.size(); ++i) {
-        const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
-                                          scratch.paths ? &scratch.path : nullptr);
         out.stats.pulses++;
-        const auto missed = [&] {
+        const bool close = gather_pulse(g, hits, terms, weighted_k, i, scratch);
+        if (scratch.pulse_waves.empty() || scratch.pulse_waves.back().i != i) {
             if (close)
                 out.stats.too_close++;
             else
                 out.stats.misses++;
-        };
-        if (arrivals.empty() && volume_pe_.empty()) {
-            missed();
-            continue;
         }
-        std::sort(arrivals.begin(), arrivals.end(),
-                  [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
-        merge_close_arrivals(arrivals);
-        scratch.energy = energy_factor(g.first + i);
-        if (scratch.energy != 1.0)
-            for (auto& a : arrivals) a.pe = static_cast<float>(a.pe * scratch.energy);
-        const double floor_pe = floor_pe_per_sample(hits, scratch);
-        detect_waveform(g.first + i, floor_pe, scratch);
-        if (scratch.echoes.empty()) {
-            if (arrivals.empty())
-                missed();  // only the atmosphere, below the threshold
-            else
-                out.stats.voids++;  // light arrived, nothing crossed the threshold
-            continue;
-        }
-        std::uint32_t wave = core::PointRecord::kNoWave;
-        if (opt_.waveform_samples > 0)
-            wave = record_pulse(g.first + i, floor_pe, scratch, out.samples);
-        add_echoes(i, arrivals, wave, scratch);
     }
+    digitise_batch(g.first, scratch);
+    for (const PulseWave& w : scratch.pulse_waves) detect_pulse(g.first, w, scratch, out);
+}
+
+// Pulse i's arrivals (sorted, close ones merged, times its energy factor and each group's
+// speckle) and sample groups appended to the batch's, unless nothing arrives; true if a hit
+// was closer than the receiver's minimum range.
+bool PulseShader::gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                               const std::vector<double>& weighted_k, std::uint32_t i,
+                               ShadeScratch& scratch) const {
+    auto& arrivals = scratch.arrivals;
+    const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
+                                      scratch.paths ? &scratch.path : nullptr);
+    if (arrivals.empty() && volume_pe_.empty()) return close;
+    std::sort(arrivals.begin(), arrivals.end(),
+              [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
+    merge_close_arrivals(arrivals);
+    const std::uint64_t pulse = g.first + i;
+    const double energy = energy_factor(pulse);
+    if (energy != 1.0)
+        for (auto& a : arrivals) a.pe = static_cast<float>(a.pe * energy);
+    PulseWave w{i, scratch.wave_arrivals.size(),        0,      scratch.groups.size(),
+                0, floor_pe_per_sample(hits, arrivals), energy, 0};
+    scratch.wave_arrivals.insert(scratch.wave_arrivals.end(), arrivals.begin(), arrivals.end());
+    w.b = scratch.wave_arrivals.size();
+    sample_groups(arrivals, w.a, scratch.groups);
+    w.g1 = scratch.groups.size();
+    std::optional<core::PulseRng> speckle;  // one factor per group: per surface, nearly
+    if (speckle_on()) speckle.emplace(opt_.seed, pulse, kSpeckleStream);
+    std::size_t at = w.g0 > 0 ? end_of(scratch.groups[w.g0 - 1]) : 0;
+    for (std::size_t k = w.g0; k < w.g1; ++k) {
+        SampleGroup& grp = scratch.groups[k];
+        if (speckle) {
+            const double factor = physics::speckle_factor(*speckle, speckle_m_);
+            for (std::size_t a = grp.a; a < grp.b; ++a)
+                scratch.wave_arrivals[a].pe =
+                    static_cast<float>(scratch.wave_arrivals[a].pe * factor);
+        }
+        grp.at = at;
+        const auto blocks = static_cast<std::uint32_t>((grp.size() + 3) / 4);
+        at += 4 * std::size_t{blocks};
+        w.next_block += blocks;
+    }
+    scratch.pulse_waves.push_back(w);
+    return close;
+}
+
+// Every group's expected photo-electrons per sample (the floor, its arrivals, the atmosphere's
+// backscatter), its noise and its digitised counts. Group k of a pulse draws Philox blocks of
+// the pulse's stream 1 after those of its groups before it (block b's word m: sample 4b + m).
+void PulseShader::digitise_batch(std::uint64_t first_pulse, ShadeScratch& scratch) const {
+    const bool noisy = opt_.noise;
+    const std::size_t n = scratch.groups.empty() ? 0 : end_of(scratch.groups.back());
+    scratch.wave.assign(n, 0.0);
+    scratch.pulse.clear();
+    scratch.block.clear();
+    for (const PulseWave& w : scratch.pulse_waves) {
+        std::uint32_t block = 0;
+        for (std::size_t k = w.g0; k < w.g1; ++k) {
+            const SampleGroup& grp = scratch.groups[k];
+            const std::span<double> wave(scratch.wave.data() + grp.at, grp.size());
+            if (noisy) std::fill(wave.begin(), wave.end(), w.floor_pe);
+            for (std::size_t a = grp.a; a < grp.b; ++a)
+                synth_->add(scratch.wave_arrivals[a], grp.j0, wave);
+            if (!volume_pe_.empty()) add_volume(grp.j0, wave, w.energy);
+            if (!noisy) continue;
+            for (std::size_t b = 0; b < (grp.size() + 3) / 4; ++b) {
+                scratch.pulse.push_back(first_pulse + w.i);
+                scratch.block.push_back(block++);
+            }
+        }
+    }
+    if (noisy) normals_of_blocks(scratch.block.size(), scratch.wave_z, scratch);
+    scratch.counts.resize(n);
+    linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
+                      scratch.counts.data());
+}
+
+// Pulse w's echoes, group by group, as pending returns (and its recorded window).
+void PulseShader::detect_pulse(std::uint64_t first_pulse, const PulseWave& w, ShadeScratch& scratch,
+                               ShadedPoints& out) const {
+    scratch.wave_first = scratch.groups[w.g0].j0;
+    if (opt_.waveform_samples > 0) scratch.record.assign(opt_.waveform_samples, NAN);
+    scratch.echoes.resize(kMaxEchoes);
+    std::size_t found = 0;
+    for (std::size_t k = w.g0; k < w.g1 && found < kMaxEchoes; ++k)
+        detect_group(scratch.groups[k], w.floor_pe, found, scratch);
+    scratch.echoes.resize(found);
+    const std::span<const physics::Arrival> arrivals(scratch.wave_arrivals.data() + w.a, w.b - w.a);
+    if (found == 0) {
+        if (arrivals.empty())
+            out.stats.misses++;  // only the atmosphere, below the threshold
+        else
+            out.stats.voids++;  // light arrived, nothing crossed the threshold
+        return;
+    }
+    std::uint32_t wave = core::PointRecord::kNoWave;
+    if (opt_.waveform_samples > 0) wave = record_pulse(first_pulse + w.i, w, scratch, out.samples);
+    add_echoes(w.i, arrivals, wave, scratch);
 }
 
 // Background (sun on the strongest arrival's surface, path radiance) and dark photo-electrons
 // expected in one sample.
-double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScratch& scratch) const {
+double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits,
+                                        std::span<const physics::Arrival> arrivals) const {
     double rate_per_ns = linear_->dark_rate_per_ns();
-    if (!scratch.arrivals.empty() && (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0)) {
+    if (!arrivals.empty() && (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0)) {
         const auto strongest =
-            std::max_element(scratch.arrivals.begin(), scratch.arrivals.end(),
+            std::max_element(arrivals.begin(), arrivals.end(),
                              [](const auto& a, const auto& b) { return a.pe < b.pe; });
         const Hit& h = hits[strongest->hit];
         const double cos_sun =
@@ -159,55 +244,19 @@ double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits, ShadeScrat
     return rate_per_ns * synth_->period_ns();
 }
 
-// The pulse's echoes into scratch.echoes, in time order: one waveform per group of arrivals
-// whose pulses overlap (a footprint on two objects far apart costs two short waveforms, not
-// the samples between them), the atmosphere's backscatter in the group it overlaps.
-void PulseShader::detect_waveform(std::uint64_t pulse, double floor_pe,
-                                  ShadeScratch& scratch) const {
-    sample_groups(scratch);
-    std::uint32_t block = 0;  // the pulse's next Philox block of stream 1
-    scratch.wave_first = scratch.groups.front().j0;
-    if (opt_.waveform_samples > 0) scratch.record.assign(opt_.waveform_samples, NAN);
-    scratch.echoes.resize(kMaxEchoes);
-    std::size_t found = 0;
-    std::optional<core::PulseRng> speckle;  // one factor per group: per surface, nearly
-    if (speckle_on()) speckle.emplace(opt_.seed, pulse, kSpeckleStream);
-    for (const SampleGroup& g : scratch.groups) {
-        if (found >= kMaxEchoes) break;
-        if (speckle) scale_group(g, physics::speckle_factor(*speckle, speckle_m_), scratch);
-        detect_group(pulse, g, floor_pe, block, found, scratch);
-    }
-    scratch.echoes.resize(found);
-    scratch.next_block = block;
-}
-
-// The arrivals of group g times `factor` (its speckle).
-void PulseShader::scale_group(const SampleGroup& g, double factor, ShadeScratch& scratch) const {
-    for (std::size_t k = g.a; k < g.b; ++k)
-        scratch.arrivals[k].pe = static_cast<float>(scratch.arrivals[k].pe * factor);
-}
-
-// One group's expected waveform, digitised (noise from Philox block `block` on) and searched for
-// echoes, appended from scratch.echoes[found].
-void PulseShader::detect_group(std::uint64_t pulse, const SampleGroup& g, double floor_pe,
-                               std::uint32_t& block, std::size_t& found,
+// One group's digitised counts searched for echoes, appended from scratch.echoes[found].
+void PulseShader::detect_group(const SampleGroup& g, double floor_pe, std::size_t& found,
                                ShadeScratch& scratch) const {
     const bool noisy = opt_.noise;
-    const auto n = static_cast<std::size_t>(g.j1 - g.j0);
-    scratch.wave.assign(n, noisy ? floor_pe : 0.0);
-    for (std::size_t k = g.a; k < g.b; ++k) synth_->add(scratch.arrivals[k], g.j0, scratch.wave);
-    if (!volume_pe_.empty()) add_volume(g.j0, scratch.wave, scratch.energy);
-    scratch.counts.resize(n);
-    if (noisy) draw_normals(pulse, n, block, scratch);
-    linear_->digitise(scratch.wave.data(), noisy ? scratch.wave_z.data() : nullptr, n,
-                      scratch.counts.data());
-    if (opt_.waveform_samples > 0) record_group(g.j0, scratch);
+    const std::size_t n = g.size();
+    const double* counts = scratch.counts.data() + g.at;
+    if (opt_.waveform_samples > 0) record_group(g, scratch);
     const double floor = noisy ? floor_pe : 0.0;
-    std::size_t got = linear_->find_echoes(scratch.counts.data(), n, g.j0, floor, noisy,
+    std::size_t got = linear_->find_echoes(counts, n, g.j0, floor, noisy,
                                            scratch.echoes.data() + found, kMaxEchoes - found);
     const auto& p = linear_->params();
     if (p.timing == sensor::EchoTiming::Decomposition)
-        got = linear_->decompose(scratch.counts.data(), n, g.j0, floor, noisy, sigma_p_ns_,
+        got = linear_->decompose(counts, n, g.j0, floor, noisy, sigma_p_ns_,
                                  scratch.echoes.data() + found, got, kMaxEchoes - found);
     time_echoes(g, p.offset_counts + p.gain_counts_per_pe * floor, found, found + got, scratch);
     found += got;
@@ -219,16 +268,17 @@ void PulseShader::time_echoes(const SampleGroup& g, double baseline, std::size_t
                               std::size_t to, ShadeScratch& scratch) const {
     const auto& p = linear_->params();
     if (p.timing == sensor::EchoTiming::Decomposition) return;
-    const auto n = static_cast<std::size_t>(g.j1 - g.j0);
+    const double* counts = scratch.counts.data() + g.at;
     for (std::size_t e = from; e < to; ++e) {
         physics::Echo& echo = scratch.echoes[e];
-        echo.deviation = fit_deviation(echo, g.j0, baseline, scratch);
+        const double* own = counts + (echo.first - g.j0);  // the echo's first sample
+        echo.deviation = fit_deviation(echo, own, baseline);
         if (p.timing == sensor::EchoTiming::ConstantFraction) {
-            const double edge = linear_->leading_edge_ns(scratch.counts.data(), n, g.j0, baseline,
-                                                         echo, p.cfd_fraction);
+            const double edge =
+                linear_->leading_edge_ns(counts, g.size(), g.j0, baseline, echo, p.cfd_fraction);
             if (!std::isnan(edge)) echo.time_ns = edge + cfd_offset_ns_;
         } else if (matched_) {
-            echo.time_ns = matched_time_ns(echo, g.j0, baseline, scratch);
+            echo.time_ns = matched_time_ns(echo, own, baseline, scratch);
         }
     }
 }
@@ -264,54 +314,70 @@ double PulseShader::calibrate_cfd() const {
     return sum / counted;
 }
 
-// The RMS difference between an echo's samples and its fitted Gaussian on the baseline (counts):
+// The RMS difference between an echo's samples (from `y`, its first) and its fitted Gaussian on
+// the baseline (counts):
 // near the digitiser's noise for a clean echo; larger where echoes overlap or the pulse is not
 // Gaussian (a measured shape, a surface that skews it).
-double PulseShader::fit_deviation(const physics::Echo& e, std::int64_t j0, double baseline,
-                                  const ShadeScratch& scratch) const {
+double PulseShader::fit_deviation(const physics::Echo& e, const double* y, double baseline) const {
+    if (e.end <= e.first) return 0.0;
     const double dt = synth_->period_ns();
     const double inv = e.sigma_ns > 0 ? 1.0 / (2.0 * e.sigma_ns * e.sigma_ns) : 0.0;
-    double sum = 0;
-    for (std::int64_t j = e.first; j < e.end; ++j) {
-        const double u = double(j) * dt - e.time_ns;
-        const double model = baseline + e.amplitude_counts * core::exp_poly(-u * u * inv);
-        const double r = scratch.counts[static_cast<std::size_t>(j - j0)] - model;
-        sum += r * r;
+    const auto n = static_cast<std::size_t>(e.end - e.first);
+    const double u0 = double(e.first) * dt - e.time_ns;
+    // The model first, in a loop of its own that vectorises (a sum of squares in the same loop
+    // would keep it scalar: the compiler may not reorder the sum), then the sum in four lanes.
+    constexpr std::size_t kChunk = 64;
+    double model[kChunk], acc[4] = {0, 0, 0, 0};
+    for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
+        const std::size_t m = std::min(kChunk, n - k0);
+        for (std::size_t k = 0; k < m; ++k) {
+            const double u = u0 + double(k0 + k) * dt;
+            model[k] = baseline + e.amplitude_counts * core::exp_poly(-u * u * inv);
+        }
+        for (std::size_t k = 0; k < m; ++k) {
+            const double d = y[k0 + k] - model[k];
+            acc[k % 4] += d * d;
+        }
     }
-    return e.end > e.first ? std::sqrt(sum / double(e.end - e.first)) : 0.0;
+    const double sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    return std::sqrt(sum / double(n));
 }
 
-// n standard normals of the pulse's stream 1 into scratch.wave_z, from Philox block `block` on
-// (advanced past them): block b's word k is sample 4b + k. Batched, so the generator vectorises.
-void PulseShader::draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t& block,
-                               ShadeScratch& scratch) const {
+// n standard normals of the pulse's stream 1 into z, from Philox block `block` on (block b's
+// word k is sample 4b + k).
+void PulseShader::draw_normals(std::uint64_t pulse, std::size_t n, std::uint32_t block,
+                               std::vector<double>& z, ShadeScratch& scratch) const {
     const std::size_t blocks = (n + 3) / 4;
     scratch.pulse.assign(blocks, pulse);
     scratch.block.resize(blocks);
     for (std::size_t b = 0; b < blocks; ++b)
         scratch.block[b] = block + static_cast<std::uint32_t>(b);
-    block += static_cast<std::uint32_t>(blocks);
+    normals_of_blocks(blocks, z, scratch);
+}
+
+// The normals of Philox blocks (scratch.pulse[b], scratch.block[b]) of stream 1 into z, four a
+// block in order: the generator's loops run over all of them at once.
+void PulseShader::normals_of_blocks(std::size_t blocks, std::vector<double>& z,
+                                    ShadeScratch& scratch) const {
     for (auto& w : scratch.words) w.resize(blocks);
     core::philox_blocks(opt_.seed, kWaveformStream, scratch.pulse.data(), scratch.block.data(),
                         blocks,
                         {scratch.words[0].data(), scratch.words[1].data(), scratch.words[2].data(),
                          scratch.words[3].data()});
-    scratch.wave_z.resize(4 * blocks);
-    for (std::size_t k = 0; k < 4; ++k) {
-        scratch.normals[k].resize(blocks);
-        core::normals_of_words(scratch.words[k].data(), blocks, scratch.normals[k].data());
-        for (std::size_t b = 0; b < blocks; ++b) scratch.wave_z[4 * b + k] = scratch.normals[k][b];
-    }
+    scratch.sample_words.resize(4 * blocks);
+    for (std::size_t b = 0; b < blocks; ++b)
+        for (std::size_t k = 0; k < 4; ++k) scratch.sample_words[4 * b + k] = scratch.words[k][b];
+    z.resize(4 * blocks);
+    core::normals_of_words(scratch.sample_words.data(), 4 * blocks, z.data());
 }
 
 // A measured (skewed) pulse: the echo's time is where the emitted shape, slid over its samples,
 // correlates best (normalised cross-correlation, the matched filter): exact for one echo at any
 // phase of the clock, where a three-point fit of a Gaussian to a skewed pulse is biased by
 // centimetres. Delays ±1.5 samples about the fit, in steps of Δt/32, then a parabola.
-double PulseShader::matched_time_ns(const physics::Echo& e, std::int64_t j0, double baseline,
+double PulseShader::matched_time_ns(const physics::Echo& e, const double* y, double baseline,
                                     ShadeScratch& scratch) const {
     const auto n = static_cast<std::size_t>(e.end - e.first);
-    const double* y = scratch.counts.data() + (e.first - j0);
     const double step_ps = 1e3 * synth_->period_ns() / physics::WaveformSynth::kSubSteps;
     constexpr int kHalf = 48;
     double score[2 * kHalf + 1];
@@ -354,7 +420,7 @@ EchoFields PulseShader::echo_fields(const physics::Echo& e, std::uint32_t wave,
 // The reported echoes as pending returns: the strongest when one is kept, else the nearest
 // ones (as the discrete detector chooses). Each takes material and normal from the strongest
 // arrival within 2σ_p of it (else the nearest arrival).
-void PulseShader::add_echoes(std::uint32_t i, const std::vector<physics::Arrival>& arrivals,
+void PulseShader::add_echoes(std::uint32_t i, std::span<const physics::Arrival> arrivals,
                              std::uint32_t wave, ShadeScratch& scratch) const {
     auto& echoes = scratch.echoes;
     const int max_returns = std::clamp(sensor_.receiver.max_returns, 1, 8);
