@@ -323,7 +323,6 @@ double PulseShader::fit_deviation(const physics::Echo& e, const double* y, doubl
     const double dt = synth_->period_ns();
     const double inv = e.sigma_ns > 0 ? 1.0 / (2.0 * e.sigma_ns * e.sigma_ns) : 0.0;
     const auto n = static_cast<std::size_t>(e.end - e.first);
-    const double u0 = double(e.first) * dt - e.time_ns;
     // The model first, in a loop of its own that vectorises (a sum of squares in the same loop
     // would keep it scalar: the compiler may not reorder the sum), then the sum in four lanes.
     constexpr std::size_t kChunk = 64;
@@ -331,7 +330,7 @@ double PulseShader::fit_deviation(const physics::Echo& e, const double* y, doubl
     for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
         const std::size_t m = std::min(kChunk, n - k0);
         for (std::size_t k = 0; k < m; ++k) {
-            const double u = u0 + double(k0 + k) * dt;
+            const double u = double(e.first + std::int64_t(k0 + k)) * dt - e.time_ns;
             model[k] = baseline + e.amplitude_counts * core::exp_poly(-u * u * inv);
         }
         for (std::size_t k = 0; k < m; ++k) {
