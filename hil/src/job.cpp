@@ -164,7 +164,7 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
     app.add_option("--cn2", in.cn2,
                    "Turbulence: Cn² in m^(-2/3) along every path (1e-15 weak … 1e-13 strong), or "
                    "hv57 for the Hufnagel-Valley 5/7 profile by height above z = 0; each pulse's "
-                   "beam wanders (with noise on)");
+                   "spot spreads, and with noise on its beam and its image wander");
     app.add_option("--sun-elevation-deg", in.sun_elevation_deg,
                    "Sun elevation; ≤ 0 is night (no background)")
         ->capture_default_str();

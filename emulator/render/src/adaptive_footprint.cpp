@@ -34,10 +34,13 @@ double PulseShader::footprint_m2() const {
 }
 
 void PulseShader::trace(RayBatch& g, std::vector<Hit>& hits) const {
+    g.spread.clear();
+    for (auto& a : g.axis) a.clear();
     trace_footprints(g, hits);
-    if (!opt_.noise || !env_.turbulence.on() || g.specs.empty()) return;
+    if (!env_.turbulence.on() || g.specs.empty()) return;
     wander(g, hits);
     trace_footprints(g, hits);
+    if (image_cut_ && !g.axis[0].empty()) cut_by_fov(g, hits);
 }
 
 // Every ray (a sampled footprint), or the probes, then the rest of the pulses that need them.
@@ -56,7 +59,7 @@ void PulseShader::trace_footprints(RayBatch& g, std::vector<Hit>& hits) const {
     g.plane.resize(blocks);
     for (std::size_t i = 0; i < blocks; ++i) {
         const std::uint32_t r = g.first_ray[i];
-        g.plane[i] = plane_footprint(g, hits, r);
+        g.plane[i] = plane_footprint(g, hits, i);
         g.block_done[r / per] = g.plane[i].kind != PlaneFootprint::kSampled;
     }
     trace_part(g, hits, false);
@@ -74,7 +77,7 @@ void PulseShader::trace_part(RayBatch& g, std::vector<Hit>& hits, bool probes) c
                 hits[r + s].t = std::numeric_limits<float>::infinity();
             continue;
         }
-        if (!probes) g.builder->complete(g, r);
+        if (!probes) g.builder->complete(g, r, g.spread_of(b));
         for (const std::uint32_t s : probes ? probe_at_ : rest_at_)
             g.part_at.push_back(static_cast<std::uint32_t>(r + s));
     }
@@ -82,10 +85,12 @@ void PulseShader::trace_part(RayBatch& g, std::vector<Hit>& hits, bool probes) c
     g.traced += g.part_at.size();
 }
 
-// The probes of the pulse whose central sub-ray is ray r: all missed, one plane (and its closed
-// form), or neither.
+// The probes of pulse i: all missed, one plane (and its closed form), or neither. A footprint the
+// turbulence spreads by k has k² times the offsets' mean square; one the pixel's wandering field
+// of view may cut is sampled.
 PlaneFootprint PulseShader::plane_footprint(const RayBatch& g, const std::vector<Hit>& hits,
-                                            std::uint32_t r) const {
+                                            std::size_t i) const {
+    const std::uint32_t r = g.first_ray[i];
     PlaneFootprint out;
     bool any = false, all = true;
     for (const std::uint32_t s : probe_at_) {
@@ -103,13 +108,15 @@ PlaneFootprint PulseShader::plane_footprint(const RayBatch& g, const std::vector
     const double cos_i = incidence(g.rays[r], c);
     if (!(cos_i > 0.0)) return out;
     const double tan2 = (1.0 - cos_i * cos_i) / (cos_i * cos_i);
-    if (tan2 * max_offset2_ > kMaxU * kMaxU) return out;
+    const double k2 = g.spread_of(i) * g.spread_of(i), m2 = m2_ * k2;
+    if (tan2 * max_offset2_ * k2 > kMaxU * kMaxU) return out;
+    if (image_cut_ && !inside_fov(g, i, std::sqrt(max_offset2_ * k2))) return out;
     // Range R = R0·√(1 + s²)/(1 − u) and cos θ_i/R² ∝ (1 − u)³/(1 + s²)^(3/2) to second order in
     // the offsets (s² = a² + b², ⟨u²⟩ = m2·tan²θ, ⟨s²⟩ = 2·m2).
-    const double u2 = m2_ * tan2;
+    const double u2 = m2 * tan2;
     out.kind = PlaneFootprint::kPlane;
-    out.power_factor = 1.0 + 3.0 * u2 - 3.0 * m2_;
-    out.range_m = double(c.t) * (1.0 + m2_ - 2.0 * u2);
+    out.power_factor = 1.0 + 3.0 * u2 - 3.0 * m2;
+    out.range_m = double(c.t) * (1.0 + m2 - 2.0 * u2);
     out.sigma_m = double(c.t) * std::sqrt(u2);
     return out;
 }

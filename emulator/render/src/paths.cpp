@@ -193,7 +193,7 @@ void PulseShader::add_bounce(std::uint64_t first_pulse, const PathParent& q, Pat
                       stats);
 }
 
-// Each open path's hit seen from the receiver: inside the pixel's field of view about the beam,
+// Each open path's hit seen from the receiver: inside the pixel's field of view about its axis,
 // on the side its light arrived from, with nothing between (shadow rays traced as one batch).
 // Its cos θ_r/R² goes to p.nee and its hit's range becomes half the whole path, out and back,
 // so both detectors place its light at the path's delay.
@@ -215,7 +215,7 @@ void PulseShader::next_events(const RayBatch& g, std::vector<Hit>& hits, PathScr
         const double dist = to_rx.norm();
         const Eigen::Vector3d v = to_rx / dist;
         const double cos_r = v.x() * h.nx + v.y() * h.ny + v.z() * h.nz;
-        const double cos_axis = -v.dot(g.direction_of(p.pulse[k]));
+        const double cos_axis = -v.dot(g.axis_of(p.pulse[k]));
         h.t = static_cast<float>(0.5 * (double(h.t) + dist));
         if (!(cos_r > 0.0) || cos_axis < fov_cos_) continue;
         Ray s;

@@ -188,15 +188,16 @@ void RayBatchBuilder::make_rays(RayBatch& g) const {
 // Sub-rays 1.. of a pulse whose central ray is `base` along unit d, into out[0, S - 1). In float:
 // rays are float anyway, and the offsets are milliradians, far above float's 6e-8 relative
 // resolution.
-void RayBatchBuilder::add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out,
-                                  Part part) const {
+void RayBatchBuilder::add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out, Part part,
+                                  float spread) const {
     Eigen::Vector3d u, v;
     orthonormal_basis(d, u, v);
-    const Eigen::Vector3f df = d.cast<float>(), uf = u.cast<float>(), vf = v.cast<float>();
+    const Eigen::Vector3f df = d.cast<float>(), uf = spread * u.cast<float>(),
+                          vf = spread * v.cast<float>();
     for (std::size_t s = 1; s < subrays_.size(); ++s) {
         if (part != Part::All && (probes_[s] != 0) != (part == Part::Probes)) continue;
-        const Eigen::Vector3f ds =
-            (df + tanf_[s].first * uf + tanf_[s].second * vf) * inv_normf_[s];
+        const Eigen::Vector3f dt = df + tanf_[s].first * uf + tanf_[s].second * vf;
+        const Eigen::Vector3f ds = spread == 1.0f ? dt * inv_normf_[s] : dt.normalized();
         Ray ray = base;
         ray.dx = ds.x();
         ray.dy = ds.y();
@@ -206,9 +207,10 @@ void RayBatchBuilder::add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray
 }
 
 // Around the central ray as traced (a wandering beam's turned one), in the probes' place kept.
-void RayBatchBuilder::complete(RayBatch& g, std::size_t r) const {
+void RayBatchBuilder::complete(RayBatch& g, std::size_t r, double spread) const {
     const Ray& c = g.rays[r];
-    add_subrays(c, Eigen::Vector3d(c.dx, c.dy, c.dz).normalized(), &g.rays[r + 1], Part::Rest);
+    add_subrays(c, Eigen::Vector3d(c.dx, c.dy, c.dz).normalized(), &g.rays[r + 1], Part::Rest,
+                static_cast<float>(spread));
 }
 
 std::vector<std::uint8_t> footprint_probes(std::size_t subrays) {

@@ -49,6 +49,11 @@ struct RayBatch {
     std::vector<std::uint32_t> part_at;
     std::vector<std::uint8_t> block_done;      // per block of sub-rays (tracing order): no rest
     const RayBatchBuilder* builder = nullptr;  // that built it (complete())
+    // Set by PulseShader::wander (turbulence), empty otherwise: per pulse, the factor its
+    // sub-rays' offsets grow by (the beam's short-term spread) and, with noise, the receiver's
+    // axis as the return's image wanders (unit, local frame).
+    std::vector<double> spread;
+    std::array<std::vector<double>, 3> axis;
 
     Eigen::Vector3d origin_of(std::size_t i) const {
         return {origin[0][i], origin[1][i], origin[2][i]};
@@ -59,6 +64,13 @@ struct RayBatch {
     }
     Eigen::Vector3d direction_of(std::size_t i) const {
         return {direction[0][i], direction[1][i], direction[2][i]};
+    }
+    double spread_of(std::size_t i) const { return spread.empty() ? 1.0 : spread[i]; }
+    // Where the pixel looks for pulse i's light: its beam's nominal direction, or as the image
+    // wanders.
+    Eigen::Vector3d axis_of(std::size_t i) const {
+        if (axis[0].empty()) return direction_of(i);
+        return {axis[0][i], axis[1][i], axis[2][i]};
     }
 };
 
@@ -88,8 +100,9 @@ class RayBatchBuilder {
 
     // One batch: pulses [first, first + n). An adaptive footprint's pulses get their probes only.
     void build(std::uint64_t first, std::size_t n, RayBatch& g) const;
-    // The sub-rays other than probes of the block of rays at [r, r + S), around its central ray.
-    void complete(RayBatch& g, std::size_t r) const;
+    // The sub-rays other than probes of the block of rays at [r, r + S), around its central ray,
+    // their offsets times `spread` (the beam's turbulent spread, RayBatch::spread).
+    void complete(RayBatch& g, std::size_t r, double spread = 1.0) const;
 
   private:
     void load_pulses(std::uint64_t first, std::size_t n, RayBatch& g) const;
@@ -97,7 +110,8 @@ class RayBatchBuilder {
     void make_rays(RayBatch& g) const;
     // Which sub-rays add_subrays() makes: all, or an adaptive footprint's probes, or the others.
     enum class Part { All, Probes, Rest };
-    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out, Part part) const;
+    void add_subrays(const Ray& base, const Eigen::Vector3d& d, Ray* out, Part part,
+                     float spread = 1.0f) const;
 
     const sensor::SensorModel& sensor_;
     const core::Trajectory& trajectory_;

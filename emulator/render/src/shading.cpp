@@ -150,10 +150,13 @@ PulseShader::PulseShader(const Setup& setup)
     {  // the pixel's field of view and its share of the spot (docs/physics.md eq. 4′)
         const auto& rx = sensor_.receiver;
         const double f = rx.f_number * rx.aperture_diameter_m;
-        fov_cos_ = std::cos(std::min(0.5 * sensor::ifov_rad(rx), 0.5 * std::numbers::pi));
+        fov_half_rad_ = std::min(0.5 * sensor::ifov_rad(rx), 0.5 * std::numbers::pi);
+        fov_cos_ = std::cos(fov_half_rad_);
         const double t = std::tan(0.5 * sensor_.beam.divergence_rad);
         const double spot = std::numbers::pi * t * t, pix = rx.detector_area_m2 / (f * f);
         if (spot > 0.0 && pix > 0.0) nee_scale_ = spot / std::min(spot, pix);
+        const double reach = 0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius;
+        image_cut_ = env_.turbulence.on() && pix >= spot && reach <= fov_half_rad_;
     }
     if (sensor_.beam.adaptive_footprint) {
         const auto probes = footprint_probes(std::size_t(sensor_.beam.sub_rays));

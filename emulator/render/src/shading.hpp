@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <vector>
@@ -127,6 +128,7 @@ inline constexpr std::uint32_t kEnergyStream = 3;
 inline constexpr std::uint32_t kSpeckleStream = 4;  // each return's speckle factor, in order
 inline constexpr std::uint32_t kWanderStream = 5;   // the beam's wander, two normals
 inline constexpr std::uint32_t kBounceStream = 6;   // a diffuse bounce's direction, per path
+inline constexpr std::uint32_t kImageStream = 7;    // the return's image wander, two normals
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
 inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
@@ -314,14 +316,17 @@ class PulseShader {
     void vary_returns(std::uint64_t first, ShadeScratch& scratch) const;
     // Speckle applies with noise on, when the sensor has speckle cells (time-resolved.md §6).
     bool speckle_on() const { return opt_.noise && speckle_m_ >= 1.0; }
-    // beam_wander.cpp: each pulse's beam turned by the turbulence's wander at its first range.
+    // beam_wander.cpp: each pulse's beam turned and spread by the turbulence at its first range,
+    // and the pixel's axis turned by its image's wander.
     void wander(RayBatch& g, const std::vector<Hit>& hits) const;
+    bool inside_fov(const RayBatch& g, std::size_t i, double margin) const;
+    void cut_by_fov(const RayBatch& g, std::vector<Hit>& hits) const;
     // adaptive_footprint.cpp: probes first, a plane's footprint in closed form.
     double footprint_m2() const;
     void trace_footprints(RayBatch& g, std::vector<Hit>& hits) const;
     void trace_part(RayBatch& g, std::vector<Hit>& hits, bool probes) const;
     PlaneFootprint plane_footprint(const RayBatch& g, const std::vector<Hit>& hits,
-                                   std::uint32_t r) const;
+                                   std::size_t i) const;
     bool on_plane(const RayBatch& g, const std::vector<Hit>& hits, std::uint32_t r) const;
     // paths.cpp: continuations of a batch's paths into scratch.path; false when none.
     bool any_continuing(const std::vector<Hit>& hits) const;
@@ -401,7 +406,11 @@ class PulseShader {
     double m2_ = 0, max_offset2_ = 0;
     // Diffuse bounces per path (receiver.diffuse_bounces) and cos of the receiver's half IFOV.
     int bounces_ = 0;
-    double fov_cos_ = 1.0;
+    double fov_cos_ = 1.0, fov_half_rad_ = 0.5 * std::numbers::pi;
+    // The image's wander may move the pixel's field of view off part of the spot: turbulence on,
+    // and the field of view holds the whole footprint without it (else the pixel's share of the
+    // spot, eq. 4′, already stands for the cut).
+    bool image_cut_ = false;
     // Ω_spot / min(Ω_pix, Ω_spot): power_k_ holds the pixel's share of the spot (eq. 4′), which a
     // point seen inside the field of view (a bounce's next event) does not take.
     double nee_scale_ = 1.0;
