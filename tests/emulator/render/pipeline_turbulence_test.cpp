@@ -84,6 +84,28 @@ TEST(PipelineTurbulence, no_wander_without_turbulence_or_noise) {
     }
 }
 
+// A plane square to the beam at 200 m, C_n² = 1e-13, noise on, and a pixel of 24 µrad
+// field-of-view half-angle: `pulses` pulses of a beam of full divergence `divergence`.
+std::vector<core::PointRecord> narrow_pixel_render(int threads, int sub_rays, double divergence,
+                                                   bool adaptive, std::int64_t pulses) {
+    const auto scene = plane_scene(2000.0, plane_frame(200.0, 0.0));
+    render::EmbreeRenderer r(scene);
+    auto sensor = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 100));
+    sensor.beam.sub_rays = sub_rays;
+    sensor.beam.divergence_rad = divergence;
+    sensor.beam.adaptive_footprint = adaptive;
+    sensor.receiver.detector_area_m2 = sensor::detector_area_for_ifov(
+        2 * 24e-6, sensor.receiver.aperture_diameter_m, sensor.receiver.f_number);
+    physics::Environment env;
+    env.turbulence.cn2 = 1e-13;
+    render::RenderOptions o;
+    o.threads = threads;
+    o.duration = core::Nanos(pulses * 100);
+    VectorSink sink;
+    render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, env, o}, sink);
+    return sink.points;
+}
+
 // A plane at 2 km tilted by S = 45°, a beam of 1/e² half-angle θ_b = 100 µrad, C_n² = 5e-13,
 // noise off (the spread is the short-term spot's, not a fluctuation): the delays' variance is the
 // tilted-plane law cut·(tan S/c)²·(R²·tan²θ_b + ΔW²), ΔW² = 1.2525·C_n²·R³·w0^(−1/3) (here
@@ -134,21 +156,7 @@ TEST(PipelineTurbulence, image_wander_moves_a_narrow_pixel_off_the_spot) {
     const double l = 200, cn2 = 1e-13, rho = 24e-6;
     const std::int64_t pulses = 100'000;
     const auto run = [&](int threads) {
-        const auto scene = plane_scene(2000.0, plane_frame(l, 0.0));
-        render::EmbreeRenderer r(scene);
-        auto sensor = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 100));
-        sensor.beam.sub_rays = 1;
-        sensor.beam.divergence_rad = 1e-6;
-        sensor.receiver.detector_area_m2 = sensor::detector_area_for_ifov(
-            2 * rho, sensor.receiver.aperture_diameter_m, sensor.receiver.f_number);
-        physics::Environment env;
-        env.turbulence.cn2 = cn2;
-        render::RenderOptions o;
-        o.threads = threads;
-        o.duration = core::Nanos(pulses * 100);
-        VectorSink sink;
-        render::render({scene, r, sensor, core::Trajectory::fixed({}), {}, env, o}, sink);
-        return sink.points;
+        return narrow_pixel_render(threads, 1, 1e-6, false, pulses);
     };
     const auto pts = run(2);
     const double d = 0.025, w0 = d / 2;
@@ -166,6 +174,24 @@ TEST(PipelineTurbulence, image_wander_moves_a_narrow_pixel_off_the_spot) {
     for (std::size_t k = 0; k < pts.size(); ++k)
         ASSERT_TRUE(one[k].range_m == pts[k].range_m && one[k].pulse == pts[k].pulse)
             << "1 and 2 threads differ at " << k;
+}
+
+// A spot of 20 µrad full divergence, 19 sub-rays, under the same pixel: the wandering field of
+// view cuts part of some footprints. Adaptive footprints take the closed form only where the
+// whole footprint stays inside it, so over 2e4 pulses they return from the same pulses as the
+// sampled 19 (the pulses it cuts are sampled in both), and from fewer than a spot-wide pixel.
+TEST(PipelineTurbulence, image_wander_cuts_an_adaptive_footprint_as_a_sampled_one) {
+    const std::int64_t pulses = 20'000;
+    const auto sampled = narrow_pixel_render(2, 19, 20e-6, false, pulses);
+    const auto adaptive = narrow_pixel_render(2, 19, 20e-6, true, pulses);
+    std::printf(
+        "20 urad spot, 24 urad pixel, 2e4 pulses: sampled 19 returns from %zu, adaptive "
+        "from %zu\n",
+        sampled.size(), adaptive.size());
+    ASSERT_EQ(adaptive.size(), sampled.size());
+    for (std::size_t k = 0; k < sampled.size(); ++k)
+        ASSERT_EQ(adaptive[k].pulse, sampled[k].pulse) << k;
+    EXPECT_LT(sampled.size(), std::size_t(pulses) * 99 / 100);
 }
 
 }  // namespace
