@@ -110,16 +110,17 @@ struct SampleGroup {
     std::size_t a, b;
     std::size_t at = 0;
     std::size_t size() const { return static_cast<std::size_t>(j1 - j0); }
+    std::size_t blocks() const { return (size() + 3) / 4; }  // Philox blocks of its noise
+    std::size_t end() const { return at + 4 * blocks(); }    // where its padded samples end
 };
 
 // One pulse of a batch whose waveform the linear detector digitises: its arrivals [a, b) and
 // groups [g0, g1) in the batch's buffers, its floor (background and dark photo-electrons per
-// sample), energy factor, and the first Philox block of stream 1 its groups left unused.
+// sample) and energy factor.
 struct PulseWave {
     std::uint32_t i;
     std::size_t a, b, g0, g1;
     double floor_pe, energy;
-    std::uint32_t next_block;
 };
 
 // Philox stream of each pulse's energy factor (0: discrete returns, 1: waveform noise, 2: the
@@ -400,8 +401,7 @@ class PulseShader {
     double cfd_offset_ns_ = 0;
     double speckle_m_ = 0;  // speckle cells M, 0: none
     // Adaptive footprints: which sub-rays are probes and which not (both empty: sampled), the
-    // footprint's mean
-    // square offset tangent per axis and its largest offset tangent squared.
+    // footprint's mean square offset tangent per axis and its largest offset tangent squared.
     std::vector<std::uint32_t> probe_at_, rest_at_;  // the probes' sub-ray indices, the others'
     double m2_ = 0, max_offset2_ = 0;
     // Diffuse bounces per path (receiver.diffuse_bounces) and cos of the receiver's half IFOV.

@@ -21,7 +21,7 @@ void PulseShader::record_group(const SampleGroup& g, ShadeScratch& scratch) cons
 }
 
 // Completes the window: samples between and after the arrival groups hold the floor (background
-// and dark photo-electrons, noise drawn from the pulse's stream 1 after the groups' draws). The
+// and dark photo-electrons, noise drawn from the pulse's stream 1 after its groups' blocks). The
 // window is appended to `samples`; returns the index of its first sample.
 std::uint32_t PulseShader::record_pulse(std::uint64_t pulse, const PulseWave& w,
                                         ShadeScratch& scratch,
@@ -32,7 +32,10 @@ std::uint32_t PulseShader::record_pulse(std::uint64_t pulse, const PulseWave& w,
     if (gaps > 0) {
         scratch.gap_wave.assign(gaps, noisy ? w.floor_pe : 0.0);
         scratch.gap_counts.resize(gaps);
-        if (noisy) draw_normals(pulse, gaps, w.next_block, scratch.gap_z, scratch);
+        std::size_t used = 0;  // the Philox blocks of the pulse's groups
+        for (std::size_t k = w.g0; k < w.g1; ++k) used += scratch.groups[k].blocks();
+        if (noisy)
+            draw_normals(pulse, gaps, static_cast<std::uint32_t>(used), scratch.gap_z, scratch);
         linear_->digitise(scratch.gap_wave.data(), noisy ? scratch.gap_z.data() : nullptr, gaps,
                           scratch.gap_counts.data());
         std::size_t g = 0;

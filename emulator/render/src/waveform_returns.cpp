@@ -19,9 +19,6 @@ constexpr double kPsPerMeterTwoWay = 2e12 / physics::kSpeedOfLightMPerS;
 constexpr double kMetersPerNsOneWay = 0.5e-9 * physics::kSpeedOfLightMPerS;
 constexpr std::uint32_t kWaveformStream = 1;  // stream 0: the discrete returns' draws
 
-// Where group g's samples end in the batch's buffers: padded to whole Philox blocks.
-std::size_t end_of(const SampleGroup& g) { return g.at + 4 * ((g.size() + 3) / 4); }
-
 }  // namespace
 
 bool PulseShader::pulse_arrivals(const RayBatch& g, const std::vector<Hit>& hits,
@@ -146,15 +143,15 @@ bool PulseShader::gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, 
     const double energy = energy_factor(pulse);
     if (energy != 1.0)
         for (auto& a : arrivals) a.pe = static_cast<float>(a.pe * energy);
-    PulseWave w{i, scratch.wave_arrivals.size(),        0,      scratch.groups.size(),
-                0, floor_pe_per_sample(hits, arrivals), energy, 0};
+    PulseWave w{i, scratch.wave_arrivals.size(),        0,     scratch.groups.size(),
+                0, floor_pe_per_sample(hits, arrivals), energy};
     scratch.wave_arrivals.insert(scratch.wave_arrivals.end(), arrivals.begin(), arrivals.end());
     w.b = scratch.wave_arrivals.size();
     sample_groups(arrivals, w.a, scratch.groups);
     w.g1 = scratch.groups.size();
     std::optional<core::PulseRng> speckle;  // one factor per group: per surface, nearly
     if (speckle_on()) speckle.emplace(opt_.seed, pulse, kSpeckleStream);
-    std::size_t at = w.g0 > 0 ? end_of(scratch.groups[w.g0 - 1]) : 0;
+    std::size_t at = w.g0 > 0 ? scratch.groups[w.g0 - 1].end() : 0;
     for (std::size_t k = w.g0; k < w.g1; ++k) {
         SampleGroup& grp = scratch.groups[k];
         if (speckle) {
@@ -164,9 +161,7 @@ bool PulseShader::gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, 
                     static_cast<float>(scratch.wave_arrivals[a].pe * factor);
         }
         grp.at = at;
-        const auto blocks = static_cast<std::uint32_t>((grp.size() + 3) / 4);
-        at += 4 * std::size_t{blocks};
-        w.next_block += blocks;
+        at = grp.end();
     }
     scratch.pulse_waves.push_back(w);
     return close;
@@ -177,7 +172,7 @@ bool PulseShader::gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, 
 // the pulse's stream 1 after those of its groups before it (block b's word m: sample 4b + m).
 void PulseShader::digitise_batch(std::uint64_t first_pulse, ShadeScratch& scratch) const {
     const bool noisy = opt_.noise;
-    const std::size_t n = scratch.groups.empty() ? 0 : end_of(scratch.groups.back());
+    const std::size_t n = scratch.groups.empty() ? 0 : scratch.groups.back().end();
     scratch.wave.assign(n, 0.0);
     scratch.pulse.clear();
     scratch.block.clear();
@@ -191,7 +186,7 @@ void PulseShader::digitise_batch(std::uint64_t first_pulse, ShadeScratch& scratc
                 synth_->add(scratch.wave_arrivals[a], grp.j0, wave);
             if (!volume_pe_.empty()) add_volume(grp.j0, wave, w.energy);
             if (!noisy) continue;
-            for (std::size_t b = 0; b < (grp.size() + 3) / 4; ++b) {
+            for (std::size_t b = 0; b < grp.blocks(); ++b) {
                 scratch.pulse.push_back(first_pulse + w.i);
                 scratch.block.push_back(block++);
             }
