@@ -40,6 +40,7 @@ las::LasWriterOptions writer_options(const LasChoice& o, Job& job) {
     lo.file_source_id = job.sensor.point_source_id;
     const bool linear = job.sensor.detector == sensor::DetectorKind::Linear;
     lo.echo_fields = linear;
+    lo.event_fields = job.sensor.detector == sensor::DetectorKind::Geiger || job.sensor.array.on();
     const bool wave_format = o.format == 4 || o.format == 5 || o.format >= 9;
     if (!o.waveform && !wave_format) {
         if (o.wdp)

@@ -82,6 +82,18 @@ std::string linear(const std::string& setting) {
     return kVlp16 + "detector: {type: linear, " + setting + "}\n";
 }
 
+// The Geiger-mode detector with its defaults, with settings, and a 2 × 2 flash array.
+const std::string kGeiger = kVlp16 + "detector: {type: geiger}\n";
+std::string geiger(const std::string& settings) {
+    return kVlp16 + "detector: {type: geiger, " + settings + "}\n";
+}
+const std::string kMany = "max_events: 3, dark_count_rate_khz: 20000";  // several events a gate
+const std::string kArray = kVlp16 + "array: {columns: 2, rows: 2}\n";
+std::string array(const std::string& settings) {
+    return kVlp16 + "array: {columns: 2, rows: 2, " + settings + "}\n";
+}
+const std::string kArrayRun = "--trajectory static:0,0,1.5 --duration 0.01";
+
 std::vector<KeyCase> cases() {
     const std::string geo = "georef: {epsg: 32632, anchor: [500000, 5000000, 200]}\n";
     const std::string ramp =
@@ -211,6 +223,26 @@ std::vector<KeyCase> cases() {
         {"detector.timing", "", "", kLinear, linear("timing: constant_fraction")},
         {"detector.cfd_fraction", "", "", linear("timing: constant_fraction"),
          linear("timing: constant_fraction, cfd_fraction: 0.2")},
+        {"detector.pde", "", "", kGeiger, geiger("pde: 0.05")},
+        {"detector.bin_ns", "", "", kGeiger, geiger("bin_ns: 2")},
+        {"detector.dark_count_rate_khz", "", "", kGeiger, geiger("dark_count_rate_khz: 20000")},
+        {"detector.dead_time_ns", "", "", geiger(kMany), geiger(kMany + ", dead_time_ns: 5")},
+        {"detector.paralyzable", "", "", geiger(kMany), geiger(kMany + ", paralyzable: true")},
+        {"detector.jitter_ns", "", "", kGeiger, geiger("jitter_ns: 1")},
+        {"detector.afterpulse_probability", "", "", geiger(kMany),
+         geiger(kMany + ", afterpulse_probability: 0.5")},
+        {"detector.afterpulse_delay_ns", "", "", geiger(kMany + ", afterpulse_probability: 0.5"),
+         geiger(kMany + ", afterpulse_probability: 0.5, afterpulse_delay_ns: 10")},
+        {"detector.max_events", "", "", geiger("dark_count_rate_khz: 20000"), geiger(kMany)},
+        {"detector.crosstalk_probability", "", "", geiger(kMany) + "array: {columns: 2, rows: 2}\n",
+         geiger(kMany + ", crosstalk_probability: 0.5") + "array: {columns: 2, rows: 2}\n",
+         kArrayRun},
+        {"array.columns", "", "", kArray, kVlp16 + "array: {columns: 3, rows: 2}\n", kArrayRun},
+        {"array.rows", "", "", kArray, kVlp16 + "array: {columns: 2, rows: 3}\n", kArrayRun},
+        {"array.pitch_um", "", "", kArray, array("pitch_um: 200"), kArrayRun},
+        {"array.focal_length_mm", "", "", kArray, array("focal_length_mm: 100"), kArrayRun},
+        {"array.fill_factor", "", "", kArray, array("fill_factor: 0.5"), kArrayRun},
+        {"array.illumination", "", "", kArray, array("illumination: beamlets"), kArrayRun},
         {"receiver.aperture_mm", "", "", kVlp16, kVlp16 + "receiver: {aperture_mm: 30}\n"},
         {"receiver.f_number", "", "", kVlp16, kVlp16 + "receiver: {f_number: 2}\n", day},
         {"receiver.detector_area_mm2", "", "", kVlp16,

@@ -56,9 +56,26 @@ void LasFile::load_waves(const std::vector<std::uint8_t>& bytes,
                          const std::vector<std::uint8_t>* wdp) {
     const LasHeaderInfo& h = header_;
     const auto& names = h.extra_bytes_names;
-    if (names.size() >= 3 && names[0] == "amplitude" && names[1] == "echo width" &&
-        names[2] == "deviation" && h.extra_bytes_types[0] == 9 && h.extra_bytes_types[1] == 9 &&
-        h.extra_bytes_types[2] == 9 && h.point_format < kRecordLengths.size() &&
+    const bool echo = names.size() >= 3 && names[0] == "amplitude" && names[1] == "echo width" &&
+                      names[2] == "deviation" && h.extra_bytes_types[0] == 9 &&
+                      h.extra_bytes_types[1] == 9 && h.extra_bytes_types[2] == 9;
+    const std::size_t ev = echo ? 3 : 0;  // where the event fields' descriptors start
+    const bool events = names.size() >= ev + 3 && names[ev] == "pixel" &&
+                        names[ev + 1] == "event" && names[ev + 2] == "time of flight" &&
+                        h.extra_bytes_types[ev] == 5 && h.extra_bytes_types[ev + 1] == 1 &&
+                        h.extra_bytes_types[ev + 2] == 10;
+    const std::size_t base =
+        h.point_format < kRecordLengths.size() ? kRecordLengths[h.point_format] : 0;
+    if (events && base > 0 && h.record_length >= base + (echo ? 12 : 0) + 13) {
+        for (std::size_t k = 0; k < points_.size(); ++k) {
+            const std::uint8_t* e =
+                bytes.data() + h.offset_to_points + k * h.record_length + base + (echo ? 12 : 0);
+            points_[k].pixel = get_u32(e);
+            points_[k].event = e[4];
+            points_[k].time_of_flight_ns = get_f64(e + 5);
+        }
+    }
+    if (echo && h.point_format < kRecordLengths.size() &&
         h.record_length >= kRecordLengths[h.point_format] + 12) {
         for (std::size_t k = 0; k < points_.size(); ++k) {
             const std::uint8_t* e = bytes.data() + h.offset_to_points + k * h.record_length +

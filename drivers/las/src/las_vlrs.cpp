@@ -23,9 +23,9 @@ std::vector<std::uint8_t> vlr(const char* user, std::uint16_t id, const char* de
     return v;
 }
 
-// One float extra-bytes descriptor (Table 24): data type 9, no options.
-void put_float_field(std::uint8_t* d, const char* name, const char* description) {
-    d[2] = 9;
+// One extra-bytes descriptor (Table 24) of a data type (1 u8, 5 u32, 9 f32, 10 f64), no options.
+void put_field(std::uint8_t* d, std::uint8_t type, const char* name, const char* description) {
+    d[2] = type;
     put_text(d + 4, 32, name);
     put_text(d + 160, 32, description);
 }
@@ -53,14 +53,27 @@ std::vector<std::uint8_t> waveform_descriptor_vlr(const WaveformPackets& w) {
     return v;
 }
 
-std::vector<std::uint8_t> echo_extra_bytes_vlr() {
-    auto v = vlr("LASF_Spec", kExtraBytesRecordId, "Waveform echo fields",
-                 3 * kExtraBytesDescriptorSize);
+std::vector<std::uint8_t> extra_bytes_vlr(bool echo, bool events) {
+    const std::size_t fields = (echo ? 3 : 0) + (events ? 3 : 0);
+    auto v = vlr("LASF_Spec", kExtraBytesRecordId,
+                 echo && events ? "Echo and photon-event fields"
+                 : echo         ? "Waveform echo fields"
+                                : "Photon-event fields",
+                 fields * kExtraBytesDescriptorSize);
     std::uint8_t* d = v.data() + kVlrHeaderSize;
-    put_float_field(d, "amplitude", "echo peak above baseline [counts]");
-    put_float_field(d + kExtraBytesDescriptorSize, "echo width", "fitted Gaussian sigma [ns]");
-    put_float_field(d + 2 * kExtraBytesDescriptorSize, "deviation",
-                    "RMS of samples about the fit [counts]");
+    if (echo) {
+        put_field(d, 9, "amplitude", "echo peak above baseline [counts]");
+        put_field(d += kExtraBytesDescriptorSize, 9, "echo width", "fitted Gaussian sigma [ns]");
+        put_field(d += kExtraBytesDescriptorSize, 9, "deviation",
+                  "RMS of samples about the fit [counts]");
+        d += kExtraBytesDescriptorSize;
+    }
+    if (events) {
+        put_field(d, 5, "pixel", "array pixel: column + row * columns");
+        put_field(d += kExtraBytesDescriptorSize, 1, "event",
+                  "1 signal 2 noise 3 afterpulse 4 xtalk");
+        put_field(d += kExtraBytesDescriptorSize, 10, "time of flight", "since emission [ns]");
+    }
     return v;
 }
 

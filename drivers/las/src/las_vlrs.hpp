@@ -16,7 +16,11 @@ std::vector<std::uint8_t> wkt_vlr(const std::string& wkt, const std::string& pre
 std::vector<std::uint8_t> waveform_descriptor_vlr(const WaveformPackets& w);
 // Extra bytes (LASF_Spec 4): the waveform detector's amplitude, echo width and deviation, one
 // float each, in that order after the format's own fields.
-std::vector<std::uint8_t> echo_extra_bytes_vlr();
+// With `events`, the photon-event fields follow (or stand alone): "pixel" (u32), "event" (u8:
+// 1 signal, 2 background or dark, 3 afterpulse, 4 crosstalk, 0 none) and "time of flight" (f64,
+// ns since emission).
+std::vector<std::uint8_t> extra_bytes_vlr(bool echo, bool events);
 inline constexpr std::size_t kEchoExtraBytes = 12;
+inline constexpr std::size_t kEventExtraBytes = 13;
 
 }  // namespace mirage::las

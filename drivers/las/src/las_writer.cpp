@@ -131,7 +131,8 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
     const std::uint8_t f = opt.point_format;
     base_length = kRecordLengths[f];
     record_length =
-        static_cast<std::uint16_t>(base_length + (opt.echo_fields ? kEchoExtraBytes : 0));
+        static_cast<std::uint16_t>(base_length + (opt.echo_fields ? kEchoExtraBytes : 0) +
+                                   (opt.event_fields ? kEventExtraBytes : 0));
     wave_at = wave_fields_at(f);
     packet_bytes = opt.waveform.samples * (opt.waveform.bits / 8u);
     return_mask = f < 6 ? 0x07 : 0x0F;
@@ -161,7 +162,7 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
     put_u32(h + kOffsetToPoints, data_offset);
     put_u32(h + kVlrCount, static_cast<std::uint32_t>(georef.has_crs()) +
                                static_cast<std::uint32_t>(wave_at != 0) +
-                               static_cast<std::uint32_t>(opt.echo_fields));
+                               static_cast<std::uint32_t>(opt.echo_fields || opt.event_fields));
     put_u8(h + kPointFormat, f);
     put_u16(h + kRecordLength, record_length);
     for (int a = 0; a < 3; ++a) {
@@ -231,8 +232,8 @@ std::vector<std::uint8_t> LasWriter::Impl::vlrs(const core::Georef& georef) cons
         const auto d = waveform_descriptor_vlr(opt.waveform);
         v.insert(v.end(), d.begin(), d.end());
     }
-    if (opt.echo_fields) {
-        const auto e = echo_extra_bytes_vlr();
+    if (opt.echo_fields || opt.event_fields) {
+        const auto e = extra_bytes_vlr(opt.echo_fields, opt.event_fields);
         v.insert(v.end(), e.begin(), e.end());
     }
     return v;
@@ -297,6 +298,13 @@ bool LasWriter::Impl::encode(const core::PointRecord& p, std::uint8_t* r,
         put_f32(r + base_length, p.amplitude);
         put_f32(r + base_length + 4, p.echo_width_ns);
         put_f32(r + base_length + 8, p.deviation);
+    }
+    if (opt.event_fields) {
+        constexpr double kNsPerMeterTwoWay = 2e9 / 299'792'458.0;
+        std::uint8_t* e = r + base_length + (opt.echo_fields ? kEchoExtraBytes : 0);
+        put_u32(e, p.pixel);
+        put_u8(e + 4, p.event);
+        put_f64(e + 5, double(p.range_m) * kNsPerMeterTwoWay);
     }
     return true;
 }

@@ -10,22 +10,69 @@
 
 namespace mirage::physics {
 
-EventRate::EventRate(std::span<const double> signal, double noise_per_bin, double bin_ns)
-    : noise_(noise_per_bin), bin_ns_(bin_ns) {
-    if (!(bin_ns > 0.0) || !std::isfinite(bin_ns))
-        throw ConfigError("Geiger-mode gate: the bin width " + std::to_string(bin_ns) +
-                          " ns must be > 0");
-    if (!(noise_per_bin >= 0.0) || !std::isfinite(noise_per_bin))
-        throw ConfigError("Geiger-mode gate: the noise per bin " + std::to_string(noise_per_bin) +
-                          " must be ≥ 0");
-    prefix_.resize(signal.size() + 1);
-    prefix_[0] = 0.0;
+namespace {
+
+[[noreturn]] void bad_gate(const std::string& what) {
+    throw ConfigError("Geiger-mode gate: " + what);
+}
+
+std::vector<SignalBin> sparse(std::span<const double> signal) {
+    std::vector<SignalBin> out;
     for (std::size_t k = 0; k < signal.size(); ++k) {
         if (!(signal[k] >= 0.0) || !std::isfinite(signal[k]))
-            throw ConfigError("Geiger-mode gate: bin " + std::to_string(k) +
-                              " expects a negative or non-finite signal");
-        prefix_[k + 1] = prefix_[k] + signal[k] + noise_per_bin;
+            bad_gate("bin " + std::to_string(k) + " expects a negative or non-finite signal");
+        if (signal[k] > 0.0) out.push_back({static_cast<std::uint32_t>(k), signal[k]});
     }
+    return out;
+}
+
+}  // namespace
+
+EventRate::EventRate(std::span<const double> signal, double noise_per_bin, double bin_ns) {
+    assign(signal.size(), sparse(signal), noise_per_bin, bin_ns);
+}
+
+EventRate::EventRate(std::size_t bins, std::span<const SignalBin> signal, double noise_per_bin,
+                     double bin_ns) {
+    assign(bins, signal, noise_per_bin, bin_ns);
+}
+
+void EventRate::assign(std::size_t bins, std::span<const SignalBin> signal, double noise_per_bin,
+                       double bin_ns) {
+    if (!(bin_ns > 0.0) || !std::isfinite(bin_ns))
+        bad_gate("the bin width " + std::to_string(bin_ns) + " ns must be > 0");
+    if (!(noise_per_bin >= 0.0) || !std::isfinite(noise_per_bin))
+        bad_gate("the noise per bin " + std::to_string(noise_per_bin) + " must be ≥ 0");
+    bins_ = bins;
+    noise_ = noise_per_bin;
+    bin_ns_ = bin_ns;
+    key_.clear();
+    signal_.clear();
+    cum_.assign(1, 0.0);
+    end_.clear();
+    for (const SignalBin& b : signal) {
+        if (b.k >= bins || (!key_.empty() && b.k <= key_.back()))
+            bad_gate("signal bin " + std::to_string(b.k) + " out of order or past the gate");
+        if (!(b.signal >= 0.0) || !std::isfinite(b.signal))
+            bad_gate("bin " + std::to_string(b.k) + " expects a negative or non-finite signal");
+        key_.push_back(b.k);
+        signal_.push_back(b.signal);
+        cum_.push_back(cum_.back() + b.signal);
+        end_.push_back(noise_ * double(b.k + 1) + cum_.back());
+    }
+    total_ = noise_ * double(bins_) + cum_.back();
+}
+
+std::size_t EventRate::entry(std::size_t k) const {
+    return static_cast<std::size_t>(
+        std::lower_bound(key_.begin(), key_.end(), static_cast<std::uint32_t>(k)) - key_.begin());
+}
+
+double EventRate::before(std::size_t k) const { return noise_ * double(k) + cum_[entry(k)]; }
+
+double EventRate::in(std::size_t k) const {
+    const std::size_t j = entry(k);
+    return noise_ + (j < key_.size() && key_[j] == k ? signal_[j] : 0.0);
 }
 
 double EventRate::signal_share(std::size_t k) const {
@@ -33,32 +80,37 @@ double EventRate::signal_share(std::size_t k) const {
     return n > 0.0 ? std::max(0.0, 1.0 - noise_ / n) : 0.0;
 }
 
+// The first signal bin whose end lies above the level holds it, or the noise-only stretch
+// before that bin (after the previous one) does; past the last signal bin, the noise after it.
 double EventRate::time_at(double level) const {
-    // The first boundary at or above the level closes the bin it falls in; a bin it crosses has
-    // n_k > 0, so the division is safe.
-    const auto it = std::lower_bound(prefix_.begin() + 1, prefix_.end(), level);
-    if (it == prefix_.end()) return std::numeric_limits<double>::infinity();
-    const auto k = static_cast<std::size_t>(it - prefix_.begin()) - 1;
-    const double n = prefix_[k + 1] - prefix_[k];
-    const double f = n > 0.0 ? std::clamp((level - prefix_[k]) / n, 0.0, 1.0) : 0.0;
-    return (double(k) + f) * bin_ns_;
+    if (!(level < total_)) return std::numeric_limits<double>::infinity();
+    const auto j =
+        static_cast<std::size_t>(std::upper_bound(end_.begin(), end_.end(), level) - end_.begin());
+    if (j < key_.size()) {
+        const double start = noise_ * double(key_[j]) + cum_[j];
+        if (level >= start)
+            return (double(key_[j]) + std::min(1.0, (level - start) / (noise_ + signal_[j]))) *
+                   bin_ns_;
+    }
+    if (!(noise_ > 0.0)) return double(j < key_.size() ? key_[j] : bins_) * bin_ns_;
+    return std::min(double(bins_), (level - cum_[j]) / noise_) * bin_ns_;
 }
 
 double EventRate::level_at(double t_ns) const {
     if (!(t_ns > 0.0)) return 0.0;
     const double x = t_ns / bin_ns_;
-    if (x >= double(bins())) return total();
+    if (x >= double(bins_)) return total_;
     const auto k = static_cast<std::size_t>(x);
-    return prefix_[k] + (x - double(k)) * (prefix_[k + 1] - prefix_[k]);
+    return before(k) + (x - double(k)) * in(k);
 }
 
 double EventRate::first_event_probability(std::size_t k) const {
-    return std::exp(-prefix_[k]) * -std::expm1(-(prefix_[k + 1] - prefix_[k]));
+    return std::exp(-before(k)) * -std::expm1(-in(k));
 }
 
 std::size_t first_event_bin(const EventRate& rate, double u) {
     const double level = -std::log(u);
-    if (level > rate.total()) return rate.bins();
+    if (!(level < rate.total())) return rate.bins();
     const double t = rate.time_at(level);
     return std::min(rate.bins() - 1, static_cast<std::size_t>(t / rate.bin_ns()));
 }

@@ -167,8 +167,10 @@ PulseShader::PulseShader(const Setup& setup)
             std::tan(0.5 * sensor_.beam.divergence_rad * sensor_.beam.footprint_radius);
         max_offset2_ = t * t;
     }
+    share_ = sensor_.array.share;
     check_recording();
     init_volume();
+    init_geiger();
 }
 
 // Waveforms are recorded from the linear detector's digitiser, at most kMaxWaveformSamples per
@@ -188,17 +190,19 @@ void PulseShader::check_recording() const {
 // One Philox normal of the pulse's stream 3, so the energy does not depend on what else the
 // pulse draws. Applies with or without detector noise: it is the laser's, not the detector's.
 double PulseShader::energy_factor(std::uint64_t pulse) const {
+    // An array's pixel-pulse carries its pixel's share of the laser pulse (ArrayScan order).
+    const double share = share_.empty() ? 1.0 : double(share_[pulse % share_.size()]);
     const double sigma = sensor_.beam.energy_sigma;
-    if (!(sigma > 0.0)) return 1.0;
+    if (!(sigma > 0.0)) return share;
     core::PulseRng rng(opt_.seed, pulse, kEnergyStream);
-    return std::max(0.0, 1.0 + sigma * rng.normal());
+    return share * std::max(0.0, 1.0 + sigma * rng.normal());
 }
 
 // The discrete detector's pending returns scaled by their pulse's energy factor and, with
 // speckle, each by its own factor, drawn in return order from the pulse's stream 4.
 void PulseShader::vary_returns(std::uint64_t first, ShadeScratch& scratch) const {
     const bool speckle = speckle_on();
-    if (!(sensor_.beam.energy_sigma > 0.0) && !speckle) return;
+    if (!(sensor_.beam.energy_sigma > 0.0) && !speckle && share_.empty()) return;
     std::uint32_t last = 0xFFFFFFFFu;
     double f = 1.0;
     std::optional<core::PulseRng> rng;
@@ -229,13 +233,19 @@ void PulseShader::shade(const RayBatch& g, std::vector<Hit>& hits,
     const RayView rays = rays_of(g, scratch.paths ? &scratch.path : nullptr);
     ray_terms(g, hits, scratch);
     const double* terms = scratch.ray_terms.data();
+    out.stats.rays += g.traced;
+    if (geiger_) {  // photon events: no noise draws, voids or intensity of their own
+        geiger_returns(g, hits, terms, k, scratch, out);
+        event_points(g, scratch);
+        emit_points(g, hits, scratch, out);
+        return;
+    }
     if (linear_)
         waveform_returns(g, hits, terms, k, scratch, out);
     else if (subrays.size() == 1 && !scratch.paths && g.plane.empty())
         single_returns(g, hits, terms, k[0], scratch, out.stats);
     else
         clustered_returns(g, hits, rays, terms, k, scratch, out.stats);
-    out.stats.rays += g.traced;
     if (!linear_) vary_returns(g.first, scratch);  // the waveform detector's: per arrival
     draw(g.first, scratch);
     electrons(g, scratch);
@@ -477,6 +487,7 @@ std::size_t PulseShader::write_records(const RayBatch& g, const std::vector<Hit>
     const PendingReturn* pending = scratch.pending.data();
     const double* voids = scratch.voids.data();
     const EchoFields* echo = scratch.echo_fields.empty() ? nullptr : scratch.echo_fields.data();
+    const std::uint8_t* event = geiger_ ? scratch.event_kind.data() : nullptr;
     std::size_t kept = 0;
     for (std::size_t j = 0; j < scratch.pending.size(); ++j) {
         const PendingReturn& r = pending[j];
@@ -502,6 +513,8 @@ std::size_t PulseShader::write_records(const RayBatch& g, const std::vector<Hit>
         pt.classification = m.classification;
         pt.scan_direction = spec.scan_direction;
         pt.edge_of_flight_line = spec.edge_of_flight_line;
+        pt.pixel = spec.pixel;
+        pt.event = event ? event[j] : 0;
         if (echo) {
             pt.amplitude = echo[j].amplitude;
             pt.echo_width_ns = echo[j].width_ns;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mirage/core/point.hpp"
+#include "mirage/physics/geiger.hpp"
 #include "mirage/physics/linear_detector.hpp"
 #include "mirage/physics/radiometry.hpp"
 #include "mirage/physics/waveform.hpp"
@@ -126,10 +127,23 @@ struct PulseWave {
 // Philox stream of each pulse's energy factor (0: discrete returns, 1: waveform noise, 2: the
 // paths' roulette).
 inline constexpr std::uint32_t kEnergyStream = 3;
-inline constexpr std::uint32_t kSpeckleStream = 4;  // each return's speckle factor, in order
-inline constexpr std::uint32_t kWanderStream = 5;   // the beam's wander, two normals
-inline constexpr std::uint32_t kBounceStream = 6;   // a diffuse bounce's direction, per path
-inline constexpr std::uint32_t kImageStream = 7;    // the return's image wander, two normals
+inline constexpr std::uint32_t kSpeckleStream = 4;    // each return's speckle factor, in order
+inline constexpr std::uint32_t kWanderStream = 5;     // the beam's wander, two normals
+inline constexpr std::uint32_t kBounceStream = 6;     // a diffuse bounce's direction, per path
+inline constexpr std::uint32_t kImageStream = 7;      // the return's image wander, two normals
+inline constexpr std::uint32_t kGeigerStream = 8;     // a Geiger-mode pixel's photon events
+inline constexpr std::uint32_t kCrosstalkStream = 9;  // and the crosstalk its detections make
+
+// A batch's Geiger-mode events (geiger_returns.cpp): pulse i's events at
+// [event_at[i], event_at[i + 1]), its arrivals likewise, its expected signal photo-electrons;
+// `frame`: one frame's events per pixel while crosstalk is applied.
+struct GeigerBatch {
+    std::vector<physics::GeigerEvent> events;
+    std::vector<physics::Arrival> arrivals;
+    std::vector<std::size_t> event_at, arrival_at;
+    std::vector<double> expected;
+    std::vector<std::vector<physics::GeigerEvent>> frame;
+};
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
 inline constexpr std::uint32_t kVolumeHit = 0xFFFFFFFFu;
@@ -188,6 +202,15 @@ struct ShadeScratch {
     // A render recording waveforms (waveform_record.cpp): the pulse's window, NaN where no
     // arrival group's samples were digitised.
     std::vector<double> record;
+    // The Geiger-mode detector's (geiger_returns.cpp): a pulse's signal bins, event rate and
+    // events; per pending return its event kind (PointRecord::event) and its pulse's expected
+    // signal photo-electrons.
+    std::vector<physics::SignalBin> signal_bins;
+    physics::EventRate rate;
+    std::vector<physics::GeigerEvent> events;
+    GeigerBatch geiger;
+    std::vector<std::uint8_t> event_kind;
+    std::vector<double> expected_pe;
 };
 
 // What shading appends to: point records in pulse order, the digitised samples they refer to
@@ -283,6 +306,8 @@ class PulseShader {
                         std::vector<physics::Arrival>& out) const;
     double floor_pe_per_sample(const std::vector<Hit>& hits,
                                std::span<const physics::Arrival> arrivals) const;
+    double background_per_ns(const std::vector<Hit>& hits,
+                             std::span<const physics::Arrival> arrivals) const;
     bool gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                       const std::vector<double>& weighted_k, std::uint32_t i,
                       ShadeScratch& scratch) const;
@@ -291,6 +316,31 @@ class PulseShader {
                       ShadedPoints& out) const;
     void detect_group(const SampleGroup& g, double floor_pe, std::size_t& found,
                       ShadeScratch& scratch) const;
+    // geiger_returns.cpp: the Geiger-mode detector's events.
+    struct GeigerGate {
+        double open_ns = 0, bin_ns = 1;  // the gate opens this long after emission
+        std::size_t bins = 0;
+        physics::GeigerPixel pixel;
+        double dark_per_ns = 0;
+        double shape_lo = 0, shape_hi = 0, inv_cell = 1;  // the pulse's support about its centroid
+        std::vector<double> cdf;                          // its cumulative shape over the support
+        double cumulative(double t_ns) const;
+    };
+    void init_geiger();
+    void geiger_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                        const std::vector<double>& weighted_k, ShadeScratch& scratch,
+                        ShadedPoints& out) const;
+    bool pixel_events(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                      const std::vector<double>& weighted_k, std::uint32_t i,
+                      ShadeScratch& scratch) const;
+    void crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const;
+    void signal_bins(std::span<const physics::Arrival> arrivals,
+                     std::vector<physics::SignalBin>& out) const;
+    double geiger_noise_per_ns(const std::vector<Hit>& hits,
+                               std::span<const physics::Arrival> arrivals) const;
+    void add_event(std::uint32_t i, std::uint32_t k, const physics::GeigerEvent& e,
+                   std::span<const physics::Arrival> arrivals, ShadeScratch& scratch) const;
+    void event_points(const RayBatch& g, ShadeScratch& scratch) const;
     // volume.cpp: the atmosphere's backscatter in the waveform.
     void init_volume();
     void convolve_volume();
@@ -394,6 +444,9 @@ class PulseShader {
     // The linear-mode detector, when the sensor has one (docs/time-resolved.md §7).
     std::optional<physics::LinearDetector> linear_;
     std::optional<physics::WaveformSynth> synth_;
+    std::optional<GeigerGate> geiger_;  // the Geiger-mode detector, when the sensor has one
+    // An array's pixel-pulses: each pixel's share of the laser's energy (empty: no array).
+    std::span<const float> share_;
     double sigma_p_ns_ = 0;  // the pulse's RMS width
     bool matched_ = false;   // a measured pulse: echoes timed by the matched filter
     // Constant-fraction timing: the emitted pulse's own delay from its leading edge at the

@@ -225,18 +225,21 @@ void PulseShader::detect_pulse(std::uint64_t first_pulse, const PulseWave& w, Sh
 // expected in one sample.
 double PulseShader::floor_pe_per_sample(const std::vector<Hit>& hits,
                                         std::span<const physics::Arrival> arrivals) const {
-    double rate_per_ns = linear_->dark_rate_per_ns();
-    if (!arrivals.empty() && (sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0)) {
-        const auto strongest =
-            std::max_element(arrivals.begin(), arrivals.end(),
-                             [](const auto& a, const auto& b) { return a.pe < b.pe; });
-        const Hit& h = hits[strongest->hit];
-        const double cos_sun =
-            sun_up_ ? h.nx * to_sun_.x() + h.ny * to_sun_.y() + h.nz * to_sun_.z() : 0.0;
-        rate_per_ns += radiometry_.background_electrons(h.t, diffuse_brdf_[h.material], cos_sun) /
-                       (radiometry_.integration_time_s() * 1e9);
-    }
-    return rate_per_ns * synth_->period_ns();
+    return (linear_->dark_rate_per_ns() + background_per_ns(hits, arrivals)) * synth_->period_ns();
+}
+
+// Background photo-electrons per ns: the strongest arrival's surface under the sun and the path
+// radiance, over the receiver's pixel (docs/physics.md eqs. 6–10 per unit time); 0 without light.
+double PulseShader::background_per_ns(const std::vector<Hit>& hits,
+                                      std::span<const physics::Arrival> arrivals) const {
+    if (arrivals.empty() || !(sun_up_ || env_.path_radiance_w_m2_sr_um > 0.0)) return 0.0;
+    const auto strongest = std::max_element(
+        arrivals.begin(), arrivals.end(), [](const auto& a, const auto& b) { return a.pe < b.pe; });
+    const Hit& h = hits[strongest->hit];
+    const double cos_sun =
+        sun_up_ ? h.nx * to_sun_.x() + h.ny * to_sun_.y() + h.nz * to_sun_.z() : 0.0;
+    return radiometry_.background_electrons(h.t, diffuse_brdf_[h.material], cos_sun) /
+           (radiometry_.integration_time_s() * 1e9);
 }
 
 // One group's digitised counts searched for echoes, appended from scratch.echoes[found].

@@ -4,11 +4,13 @@
 // see every override reach every channel (docs/physics.md §3.5).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 
 #include "mirage/sensor/airborne.hpp"
+#include "mirage/sensor/array.hpp"
 #include "mirage/sensor/presets.hpp"
 #include "mirage/sensor/sensor.hpp"
 #include "mirage/sensor/spinning.hpp"
@@ -35,14 +37,33 @@ std::string channel_tail(const SensorModel& m) {
                        m.receiver.max_range_m);
 }
 
+std::string array_text(const ArrayParams& a, double pixel_pulses_per_s) {
+    const bool flash = a.illumination == Illumination::Flash;
+    std::string laser;
+    if (flash)
+        laser = fmt::format(", laser {:.3f} mrad {}", a.laser_divergence_rad * 1e3,
+                            a.laser_profile == BeamProfile::Gaussian ? "gaussian" : "tophat");
+    float lo = 1, hi = 0;
+    for (float s : a.share) lo = std::min(lo, s), hi = std::max(hi, s);
+    return fmt::format(
+        "  array: {} x {} pixels, pitch {:.1f} um, focal length {:.1f} mm (IFOV {:.4f} mrad), "
+        "fill {:.2f}, {}{}; pixel share of the pulse {:.4g}-{:.4g}; {:.0f} pixel-pulses/s; the "
+        "beam and receiver below are a pixel's\n",
+        a.columns, a.rows, a.pitch_m * 1e6, a.focal_length_m * 1e3, a.ifov_rad() * 1e3,
+        a.fill_factor, flash ? "flash" : "beamlets", laser, lo, hi, pixel_pulses_per_s);
+}
+
 }  // namespace
 
 std::string describe(const SensorModel& m) {
     const BeamParams& b = m.beam;
     const ReceiverParams& rx = m.receiver;
     std::string out;
-    const auto* spin = dynamic_cast<const SpinningPattern*>(m.scan.get());
-    const auto* air = dynamic_cast<const AirbornePattern*>(m.scan.get());
+    // An array rides the laser's own pattern.
+    const auto* array = dynamic_cast<const ArrayScan*>(m.scan.get());
+    const ScanPattern* laser = array ? &array->laser() : m.scan.get();
+    const auto* spin = dynamic_cast<const SpinningPattern*>(laser);
+    const auto* air = dynamic_cast<const AirbornePattern*>(laser);
     if (m.scan) {
         out += fmt::format("sensor '{}': {}, {} channel(s), {:.0f} pulses/s, group {}\n", m.name,
                            m.scan->kind(), m.scan->channels(), m.scan->pulse_rate_hz(),
@@ -64,6 +85,7 @@ std::string describe(const SensorModel& m) {
             to_string(c.kind), c.prf_hz * 1e-3, c.scan_rate_hz, c.lines_per_s(), c.fov_deg,
             c.facets, c.tilt_deg);
     }
+    if (m.array.on()) out += array_text(m.array, m.scan->pulse_rate_hz());
     out += fmt::format(
         "  beam: {:.1f} nm, {:.4f} uJ, {:.2f} ns (peak {:.1f} W), divergence {:.3f} mrad {}, "
         "sub-rays {}, laser bandwidth {:.2f} nm\n",
@@ -112,6 +134,16 @@ std::string describe(const SensorModel& m) {
             d.threshold_counts > 0 ? fmt::format("{:.1f} counts", d.threshold_counts)
                                    : std::string("4 sigma of the noise floor"));
         out += "  echo timing: " + timing_text(d) + "\n";
+    } else if (m.detector == DetectorKind::Geiger) {
+        const GeigerDetectorParams& d = m.geiger;
+        out += fmt::format(
+            "  detector: Geiger-mode, PDE {:.3f}, gate {:.1f}-{:.1f} ns in {:.3f} ns bins, dark "
+            "{:.3f} kHz, dead time {:.1f} ns ({}), jitter {:.3f} ns, afterpulses {:.4f} after "
+            "{:.1f} ns, up to {} event(s) per gate\n",
+            rx.quantum_efficiency, 2e9 * rx.min_range_m / 299'792'458.0,
+            2e9 * rx.max_range_m / 299'792'458.0, d.bin_ns, d.dark_count_rate_hz * 1e-3,
+            d.dead_time_ns, d.paralyzable ? "paralyzable" : "non-paralyzable", d.jitter_ns,
+            d.afterpulse_probability, d.afterpulse_delay_ns, d.max_events);
     } else {
         out += "  detector: discrete (sub-ray hits merged c*tau/2 apart)\n";
     }

@@ -14,6 +14,7 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/airborne.hpp"
+#include "mirage/sensor/array.hpp"
 #include "mirage/sensor/pulse_table.hpp"
 #include "mirage/sensor/sensor.hpp"
 #include "mirage/sensor/spinning.hpp"
@@ -110,6 +111,12 @@ class Reader {
             fail(key, std::to_string(v) + " is outside [" + std::to_string(lo) + ", " +
                           std::to_string(hi) + "]");
         return v;
+    }
+
+    // n[key] into `out` when it is there, checked as number() does.
+    void maybe(const YAML::Node& n, const std::string& parent, const char* key, double lo,
+               double hi, bool lo_open, double& out) const {
+        if (n[key]) out = number(n[key], join_path(parent, key), lo, hi, lo_open);
     }
 
     std::string text(const YAML::Node& n, const std::string& key) const {
@@ -286,29 +293,94 @@ void read_echo_timing(const Reader& r, const YAML::Node& n, SensorModel& m) {
     }
 }
 
+// `detector:` with type geiger (docs/photon-counting.md §2): timing, dark counts, dead time,
+// jitter, afterpulses; `pde` sets the receiver's quantum efficiency (it is the same number).
+void read_geiger(const Reader& r, const YAML::Node& n, SensorModel& m) {
+    GeigerDetectorParams& p = m.geiger;
+    const auto get = [&](const char* key, double lo, double hi, bool lo_open, double& out) {
+        r.maybe(n, "detector", key, lo, hi, lo_open, out);
+    };
+    get("bin_ns", 0, 1e3, true, p.bin_ns);
+    get("dead_time_ns", 0, 1e9, false, p.dead_time_ns);
+    get("jitter_ns", 0, 1e3, false, p.jitter_ns);
+    get("afterpulse_probability", 0, 1, false, p.afterpulse_probability);
+    get("afterpulse_delay_ns", 0, 1e9, true, p.afterpulse_delay_ns);
+    get("crosstalk_probability", 0, 1, false, p.crosstalk_probability);
+    get("pde", 0, 1, true, m.receiver.quantum_efficiency);
+    if (n["dark_count_rate_khz"])
+        p.dark_count_rate_hz =
+            1e3 * r.number(n["dark_count_rate_khz"], "detector.dark_count_rate_khz", 0, 1e6);
+    if (n["paralyzable"]) {
+        const std::string v = r.text(n["paralyzable"], "detector.paralyzable");
+        if (v != "true" && v != "false")
+            r.fail("detector.paralyzable", "'" + v + "' is not true or false");
+        p.paralyzable = v == "true";
+    }
+    if (n["max_events"])
+        p.max_events = static_cast<int>(r.integer(n["max_events"], "detector.max_events", 1, 15));
+}
+
+// The settings only one detector type reads are refused with another, where they would do nothing.
+void check_detector_keys(const Reader& r, const YAML::Node& n, DetectorKind kind) {
+    static const char* const linear[] = {
+        "sample_rate_gsps", "bits",   "offset_counts",    "gain_counts_per_pe",
+        "apd_gain",         "apd_k",  "thermal_noise_pe", "dark_current_na",
+        "threshold_counts", "timing", "cfd_fraction"};
+    static const char* const geiger[] = {
+        "bin_ns",    "dark_count_rate_khz",    "dead_time_ns",        "paralyzable",
+        "jitter_ns", "afterpulse_probability", "afterpulse_delay_ns", "max_events",
+        "pde",       "crosstalk_probability"};
+    for (const char* key : linear)
+        if (n[key] && kind != DetectorKind::Linear)
+            r.fail(join_path("detector", key), "only with detector.type: linear");
+    for (const char* key : geiger)
+        if (n[key] && kind != DetectorKind::Geiger)
+            r.fail(join_path("detector", key), "only with detector.type: geiger");
+}
+
 // `detector:`: `type: discrete` (default) or `linear` with the digitiser and APD settings
 // (docs/time-resolved.md §7); those settings are refused with the discrete detector, where they
 // would do nothing.
 void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
     r.only_keys(n, "detector",
-                {"type", "sample_rate_gsps", "bits", "offset_counts", "gain_counts_per_pe",
-                 "apd_gain", "apd_k", "thermal_noise_pe", "dark_current_na", "threshold_counts",
-                 "timing", "cfd_fraction"});
+                {"type",
+                 "sample_rate_gsps",
+                 "bits",
+                 "offset_counts",
+                 "gain_counts_per_pe",
+                 "apd_gain",
+                 "apd_k",
+                 "thermal_noise_pe",
+                 "dark_current_na",
+                 "threshold_counts",
+                 "timing",
+                 "cfd_fraction",
+                 "bin_ns",
+                 "dark_count_rate_khz",
+                 "dead_time_ns",
+                 "paralyzable",
+                 "jitter_ns",
+                 "afterpulse_probability",
+                 "afterpulse_delay_ns",
+                 "max_events",
+                 "pde",
+                 "crosstalk_probability"});
     if (n["type"]) {
         const std::string t = r.text(n["type"], "detector.type");
         if (t == "discrete")
             m.detector = DetectorKind::Discrete;
         else if (t == "linear")
             m.detector = DetectorKind::Linear;
+        else if (t == "geiger")
+            m.detector = DetectorKind::Geiger;
         else
-            r.fail("detector.type", "'" + t + "' is not discrete or linear");
+            r.fail("detector.type", "'" + t + "' is not discrete, linear or geiger");
     }
-    LinearDetectorParams& p = m.linear;
+    check_detector_keys(r, n, m.detector);
+    if (m.detector == DetectorKind::Geiger) read_geiger(r, n, m);
+    LinearDetectorParams& p = m.linear;  // (check_detector_keys refused these otherwise)
     const auto get = [&](const char* key, double lo, double hi, bool lo_open, double& out) {
-        if (!n[key]) return;
-        if (m.detector != DetectorKind::Linear)
-            r.fail(join_path("detector", key), "only with detector.type: linear");
-        out = r.number(n[key], join_path("detector", key), lo, hi, lo_open);
+        r.maybe(n, "detector", key, lo, hi, lo_open, out);
     };
     get("sample_rate_gsps", 0, 100, true, p.sample_rate_gsps);
     get("offset_counts", 0, 4e9, false, p.offset_counts);
@@ -330,6 +402,38 @@ void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
                                              num(full) + " of " + std::to_string(p.bits) + " bits");
     if (p.threshold_counts >= full - p.offset_counts)
         r.fail("detector.threshold_counts", "leaves no room below full scale " + num(full));
+}
+
+// `array:` (docs/photon-counting.md §3): a focal-plane array behind the laser; the receiver's
+// focal length and pixel area follow from it, so they may not be given too.
+void read_array(const Reader& r, const YAML::Node& root, SensorModel& m) {
+    const YAML::Node& n = root["array"];
+    r.only_keys(n, "array",
+                {"columns", "rows", "pitch_um", "focal_length_mm", "fill_factor", "illumination"});
+    for (const char* key : {"f_number", "detector_area_mm2"})
+        if (root["receiver"] && root["receiver"][key])
+            r.fail(join_path("receiver", key), "set by the array (pitch_um, focal_length_mm)");
+    ArrayParams& a = m.array;
+    for (const char* key : {"columns", "rows"})
+        if (!n[key]) r.fail(join_path("array", key), "required");
+    a.columns = static_cast<std::uint32_t>(r.integer(n["columns"], "array.columns", 1, 4096));
+    a.rows = static_cast<std::uint32_t>(r.integer(n["rows"], "array.rows", 1, 4096));
+    if (n["pitch_um"]) a.pitch_m = 1e-6 * r.number(n["pitch_um"], "array.pitch_um", 0, 1e4, true);
+    if (n["focal_length_mm"])
+        a.focal_length_m =
+            1e-3 * r.number(n["focal_length_mm"], "array.focal_length_mm", 0, 1e5, true);
+    if (n["fill_factor"])
+        a.fill_factor = r.number(n["fill_factor"], "array.fill_factor", 0, 1, true);
+    if (n["illumination"]) {
+        const std::string v = r.text(n["illumination"], "array.illumination");
+        if (v == "flash")
+            a.illumination = Illumination::Flash;
+        else if (v == "beamlets")
+            a.illumination = Illumination::Beamlets;
+        else
+            r.fail("array.illumination", "'" + v + "' is not flash or beamlets");
+    }
+    make_array(m, "sensor '" + r.path() + "'");
 }
 
 std::shared_ptr<const ScanPattern> read_spinning(const Reader& r, const YAML::Node& n,
@@ -447,7 +551,7 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (!root.IsMap()) r.fail("", "expected a mapping with 'base' and/or sensor sections");
     r.only_keys(root, "",
                 {"base", "name", "beam", "receiver", "noise", "detector", "spinning", "airborne",
-                 "point_source_id"});
+                 "array", "point_source_id"});
 
     SensorModel m;
     std::string base_name;
@@ -478,13 +582,14 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
         r.fail(root["receiver"] ? "receiver.max_range_m" : "beam.pulse_width_ns",
                "the range gate (" + num(gate_ns) + " ns two-way) is shorter than the pulse (" +
                    num(m.beam.pulse_width_s * 1e9) + " ns)");
-    // The void rule belongs to the discrete detector; the linear one decides by its threshold.
-    if (m.detector == DetectorKind::Linear && root["receiver"])
+    // The void rule belongs to the discrete detector; the others decide by their own physics.
+    if (m.detector != DetectorKind::Discrete && root["receiver"])
         for (const char* key : {"threshold_gamma", "noise_irradiance_sigma"})
             if (root["receiver"][key])
                 r.fail(join_path("receiver", key),
-                       "the discrete detector's void rule: with detector.type: linear, set "
-                       "detector.threshold_counts and detector.thermal_noise_pe");
+                       "the discrete detector's void rule: the linear detector has "
+                       "detector.threshold_counts and detector.thermal_noise_pe, the Geiger one "
+                       "its photon statistics");
 
     if (root["spinning"]) {
         const auto* base = dynamic_cast<const SpinningPattern*>(m.scan.get());
@@ -504,6 +609,9 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (root["point_source_id"])
         m.point_source_id = static_cast<std::uint16_t>(
             r.integer(root["point_source_id"], "point_source_id", 0, 65535));
+    if (root["array"]) read_array(r, root, m);
+    if (m.geiger.crosstalk_probability > 0.0 && !m.array.on())
+        r.fail("detector.crosstalk_probability", "crosstalk needs neighbours: an array");
     return m;
 }
 

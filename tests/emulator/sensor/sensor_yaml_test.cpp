@@ -244,8 +244,8 @@ detector: {type: linear, sample_rate_gsps: 2, bits: 14, offset_counts: 200, apd_
 
     EXPECT_EQ(error_of("base: vlp16\ndetector: {bits: 12}\n"),
               "detector.bits: only with detector.type: linear");
-    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: geiger}\n"),
-              "detector.type: 'geiger' is not discrete or linear");
+    EXPECT_EQ(error_of("base: vlp16\ndetector: {type: photon}\n"),
+              "detector.type: 'photon' is not discrete, linear or geiger");
     EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, bits: 33}\n"),
               "detector.bits: 33 is outside [1, 32]");
     EXPECT_EQ(error_of("base: vlp16\ndetector: {type: linear, apd_k: 1.5}\n"),
@@ -255,8 +255,13 @@ detector: {type: linear, sample_rate_gsps: 2, bits: 14, offset_counts: 200, apd_
     EXPECT_EQ(error_of("base: vlp16\nbeam: {profile: tophat, footprint_radius: 2}\n"),
               "beam.footprint_radius: a top-hat beam has no light beyond its radius (use 1)");
     EXPECT_EQ(error_of("base: vlp16\nreceiver: {threshold_gamma: 2}\ndetector: {type: linear}\n"),
-              "receiver.threshold_gamma: the discrete detector's void rule: with detector.type: "
-              "linear, set detector.threshold_counts and detector.thermal_noise_pe");
+              "receiver.threshold_gamma: the discrete detector's void rule: the linear detector "
+              "has detector.threshold_counts and detector.thermal_noise_pe, the Geiger one its "
+              "photon statistics");
+    EXPECT_EQ(error_of("base: vlp16\nreceiver: {threshold_gamma: 2}\ndetector: {type: geiger}\n"),
+              "receiver.threshold_gamma: the discrete detector's void rule: the linear detector "
+              "has detector.threshold_counts and detector.thermal_noise_pe, the Geiger one its "
+              "photon statistics");
     EXPECT_EQ(error_of("base: vlp16\nreceiver: {min_range_m: 1, max_range_m: 1.5}\n"),
               "receiver.max_range_m: the range gate (3.33564 ns two-way) is shorter than the pulse "
               "(5 ns)");

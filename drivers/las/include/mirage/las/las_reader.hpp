@@ -62,6 +62,10 @@ struct LasPoint {
     float wave_location_ps, wave_dx, wave_dy, wave_dz;
     // Mirage's echo fields (extra bytes "amplitude", "echo width", "deviation"), else 0.
     float amplitude, echo_width_ns, deviation;
+    // Mirage's photon-event fields (extra bytes "pixel", "event", "time of flight"), else 0.
+    std::uint32_t pixel;
+    std::uint8_t event;
+    double time_of_flight_ns;
 };
 
 // Reads a LAS 1.2–1.4 file (formats 0–10) fully, with its waveform packets (from the EVLR, or

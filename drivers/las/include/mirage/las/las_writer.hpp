@@ -35,6 +35,9 @@ struct LasWriterOptions {
     WaveformPackets waveform{};          // formats 4, 5, 9, 10 only
     // Extra bytes after each record: amplitude, echo width, deviation (float32 each).
     bool echo_fields = false;
+    // Then the photon-event fields: pixel (u32), event kind (u8), time of flight (f64, ns), for
+    // array sensors and Geiger-mode detectors (docs/photon-counting.md §4).
+    bool event_fields = false;
 };
 
 // What records add to the header: their count, counts by return and bounds (stored integers).

@@ -34,6 +34,10 @@ struct PointRecord {
     std::uint32_t wave = kNoWave;
     float wave_location_ps = 0;
     float beam_dx = 0, beam_dy = 0, beam_dz = 0;  // waveform detector: the beam's unit direction
+    std::uint32_t pixel = 0;  // an array sensor's pixel (column + row · columns), else 0
+    // A Geiger-mode detector's photon event: 1 signal, 2 background or dark, 3 afterpulse,
+    // 4 crosstalk (docs/photon-counting.md §4); 0 for any other detector's return.
+    std::uint8_t event = 0;
     static constexpr std::uint32_t kNoWave = 0xFFFFFFFFu;
 };
 

@@ -13,18 +13,34 @@
 
 namespace mirage::physics {
 
+// One bin of a gate that expects signal: its index and its signal primary events.
+struct SignalBin {
+    std::uint32_t k;
+    double signal;
+};
+
 // A pixel's gate as bins of bin_ns from its opening, each expecting signal S_k (≥ 0) plus a
 // constant noise (background and dark) of primary events, n_k = S_k + noise; Λ(t) their integral:
-// Λ_k = Σ_{j<k} n_j at bin boundaries, linear inside a bin.
+// Λ_k = Σ_{j<k} n_j at bin boundaries, linear inside a bin. Stored sparse (the bins with signal
+// and their running sums), so a long gate with a short return costs the return's bins only;
+// every query is O(log m) in the m signal bins.
 class EventRate {
   public:
+    // Dense: one signal value per bin (zeros allowed).
     EventRate(std::span<const double> signal, double noise_per_bin, double bin_ns);
-    std::size_t bins() const { return prefix_.size() - 1; }
+    // Sparse: `bins` bins, the signal ones in increasing k, each k < bins at most once.
+    EventRate(std::size_t bins, std::span<const SignalBin> signal, double noise_per_bin,
+              double bin_ns);
+    EventRate() = default;
+    // The same over new bins (reuses the storage; the sparse constructor's checks).
+    void assign(std::size_t bins, std::span<const SignalBin> signal, double noise_per_bin,
+                double bin_ns);
+    std::size_t bins() const { return bins_; }
     double bin_ns() const { return bin_ns_; }
-    double gate_ns() const { return bin_ns_ * double(bins()); }
-    double total() const { return prefix_.back(); }            // Λ over the whole gate
-    double before(std::size_t k) const { return prefix_[k]; }  // Λ_k
-    double in(std::size_t k) const { return prefix_[k + 1] - prefix_[k]; }  // n_k
+    double gate_ns() const { return bin_ns_ * double(bins_); }
+    double total() const { return total_; }  // Λ over the whole gate
+    double before(std::size_t k) const;      // Λ_k
+    double in(std::size_t k) const;          // n_k
     // The share of bin k's events that are signal, S_k/n_k (0 for an empty bin).
     double signal_share(std::size_t k) const;
     // The time (ns from the gate's opening) where Λ reaches `level`; +inf past the gate.
@@ -35,8 +51,13 @@ class EventRate {
     double first_event_probability(std::size_t k) const;
 
   private:
-    std::vector<double> prefix_;
-    double noise_, bin_ns_;
+    std::size_t entry(std::size_t k) const;  // signal entries with key < k
+    std::vector<std::uint32_t> key_;         // signal bins, increasing
+    std::vector<double> signal_;             // their S_k
+    std::vector<double> cum_;                // Σ S before entry j (size m + 1)
+    std::vector<double> end_;                // Λ at the end of entry j's bin
+    std::size_t bins_ = 0;
+    double noise_ = 0, bin_ns_ = 1, total_ = 0;
 };
 
 struct DeadTime {
@@ -52,7 +73,8 @@ struct GeigerPixel {
     double afterpulse_ns = 0;  // mean of its exponential delay after the detection
 };
 
-enum class EventKind : std::uint8_t { Signal, Noise, Afterpulse };
+// Crosstalk: an avalanche in a neighbouring pixel fired this one (arrays only).
+enum class EventKind : std::uint8_t { Signal, Noise, Afterpulse, Crosstalk };
 
 struct GeigerEvent {
     double t_ns = 0;  // reported time from the gate's opening (jitter included)

@@ -89,6 +89,7 @@ struct PulseSpec {
     float azimuth_deg = 0;
     std::uint8_t scan_direction = 0;       // 1 when the mirror moves in +angle direction
     std::uint8_t edge_of_flight_line = 0;  // 1 on the last pulse of a scan line
+    std::uint32_t pixel = 0;               // an array's pixel (ArrayScan), else 0
 };
 
 // Where pulses go and when. Pulse k's spec is a pure function of k, so any thread can
@@ -121,6 +122,25 @@ struct WireIdentity {
 enum class DetectorKind : std::uint8_t {
     Discrete,  // sub-ray hits merged into echoes c·τ/2 apart (physics.md §2.3): the default
     Linear,    // linear-mode APD and waveform digitiser (physics::LinearDetector)
+    Geiger,    // Geiger-mode APD: photon events (physics::geiger_events)
+};
+
+// The Geiger-mode detector's settings (sensor YAML `detector:` with type geiger;
+// docs/photon-counting.md §2). The gate opens at the receiver's minimum range and closes at its
+// maximum (arming delay 2·min_range/c); its photon detection efficiency is the receiver's
+// quantum efficiency (YAML detector.pde sets it).
+struct GeigerDetectorParams {
+    double bin_ns = 0.25;             // timing resolution: the gate's bins
+    double dark_count_rate_hz = 1e3;  // per pixel, primary
+    double dead_time_ns = 50.0;       // after a detection
+    bool paralyzable = false;         // a primary event while dead restarts the dead time
+    double jitter_ns = 0.0;           // σ of each reported time
+    double afterpulse_probability = 0.0;
+    double afterpulse_delay_ns = 1000.0;  // mean of the exponential release delay
+    // An array pixel's detection fires each of its four neighbours with this probability, at
+    // the same time, if armed (docs/photon-counting.md §2).
+    double crosstalk_probability = 0.0;
+    int max_events = 1;  // per pixel and gate (a framed array reports one)
 };
 
 // The linear-mode detector's settings (sensor YAML `detector:`; physics::LinearDetector checks
@@ -146,6 +166,29 @@ struct LinearDetectorParams {
     double cfd_fraction = 0.5;  // of the echo's amplitude, with EchoTiming::ConstantFraction
 };
 
+// A focal-plane array receiver (docs/photon-counting.md §3; sensor YAML `array:`).
+enum class Illumination : std::uint8_t {
+    Flash,     // the laser lights the whole array's field at once
+    Beamlets,  // the laser is split into one beamlet per pixel, each of beam.divergence
+};
+
+struct ArrayParams {
+    std::uint32_t columns = 0, rows = 0;  // 0: no array, a single-pixel receiver
+    double pitch_m = 50e-6;               // pixel pitch on the focal plane
+    double focal_length_m = 0.5;          // of the receiver optics: pixel IFOV = pitch / f
+    double fill_factor = 1.0;             // photosensitive share of a pixel's area
+    Illumination illumination = Illumination::Flash;
+    // Set by make_array: the laser's own full divergence and profile (the beam then describes a
+    // pixel-pulse), and each pixel's share of the laser's energy.
+    double laser_divergence_rad = 0;
+    BeamProfile laser_profile = BeamProfile::Gaussian;
+    std::vector<float> share;
+
+    bool on() const { return columns > 0; }
+    std::uint32_t pixels() const { return columns * rows; }
+    double ifov_rad() const { return pitch_m / focal_length_m; }  // per pixel, small angle
+};
+
 struct SensorModel {
     std::string name;
     WireIdentity wire;  // None: no packet format (airborne scanners, sensors built from scratch)
@@ -155,6 +198,8 @@ struct SensorModel {
     NoiseParams noise;
     DetectorKind detector = DetectorKind::Discrete;
     LinearDetectorParams linear;  // read when detector == Linear
+    GeigerDetectorParams geiger;  // read when detector == Geiger
+    ArrayParams array;            // on(): an array receiver, scan is an ArrayScan
     std::uint16_t point_source_id = 1;
     bool airborne = false;  // LAS scan angle = off-nadir, previews top-down
 };

@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: Apache-2.0
+// The Geiger-mode detector in the pipeline (docs/photon-counting.md §2, §4): per pulse (an
+// array's pixel-pulse), the arrivals spread over the gate's bins by the pulse's shape, plus
+// background and dark counts, make the pixel's event rate; its photon events, drawn from the
+// pulse's stream 8, become points along the pixel's line of sight.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <queue>
+
+#include "mirage/core/error.hpp"
+#include "mirage/core/rng.hpp"
+#include "mirage/sensor/pulse_shape.hpp"
+#include "shading.hpp"
+
+namespace mirage::render {
+namespace {
+
+constexpr double kNsPerMeterTwoWay = 2e9 / physics::kSpeedOfLightMPerS;
+constexpr std::uint32_t kCdfCells = 4096;
+
+}  // namespace
+
+// The gate (receiver's ranges), the pixel's effects and the pulse's cumulative shape.
+void PulseShader::init_geiger() {
+    if (sensor_.detector != sensor::DetectorKind::Geiger) return;
+    const auto& p = sensor_.geiger;
+    const auto& rx = sensor_.receiver;
+    const std::string source = "sensor '" + sensor_.name + "'";
+    GeigerGate g;
+    g.open_ns = rx.min_range_m * kNsPerMeterTwoWay;
+    g.bin_ns = p.bin_ns;
+    const double bins = std::ceil((rx.max_range_m - rx.min_range_m) * kNsPerMeterTwoWay / p.bin_ns);
+    if (!(bins >= 1.0 && bins < 4e9))
+        throw ConfigError(source + ": detector.bin_ns: " + std::to_string(p.bin_ns) +
+                          " ns cuts the range gate into too many bins");
+    g.bins = static_cast<std::size_t>(bins);
+    g.pixel = {{p.dead_time_ns, p.paralyzable},
+               p.jitter_ns,
+               p.afterpulse_probability,
+               p.afterpulse_delay_ns};
+    g.dark_per_ns = p.dark_count_rate_hz * 1e-9;
+    const auto& b = sensor_.beam;
+    const auto shape = b.pulse_t_ns.empty()
+                           ? sensor::PulseShape::gaussian(b.pulse_width_s * 1e9, source)
+                           : sensor::PulseShape::tabulated(b.pulse_t_ns, b.pulse_power, source);
+    g.shape_lo = b.pulse_t_ns.empty() ? -6.0 * shape.sigma_ns() : shape.begin_ns();
+    g.shape_hi = b.pulse_t_ns.empty() ? 6.0 * shape.sigma_ns() : shape.end_ns();
+    // The cumulative shape by midpoint sums, 8 per cell, normalised to end at 1.
+    const double cell = (g.shape_hi - g.shape_lo) / kCdfCells;
+    g.cdf.assign(kCdfCells + 1, 0.0);
+    for (std::uint32_t c = 0; c < kCdfCells; ++c) {
+        double s = 0;
+        for (int m = 0; m < 8; ++m) s += shape(g.shape_lo + (c + (m + 0.5) / 8.0) * cell);
+        g.cdf[c + 1] = g.cdf[c] + s * cell / 8.0;
+    }
+    for (double& v : g.cdf) v /= g.cdf.back();
+    g.inv_cell = 1.0 / cell;
+    geiger_ = std::move(g);
+}
+
+// ∫ s over (−∞, t] from the table, linear between its points.
+double PulseShader::GeigerGate::cumulative(double t_ns) const {
+    const double x = (t_ns - shape_lo) * inv_cell;
+    if (!(x > 0.0)) return 0.0;
+    if (x >= double(kCdfCells)) return 1.0;
+    const auto c = static_cast<std::size_t>(x);
+    return cdf[c] + (x - double(c)) * (cdf[c + 1] - cdf[c]);
+}
+
+// The arrivals' photo-electrons per bin of the gate (sorted by bin, each bin once).
+void PulseShader::signal_bins(std::span<const physics::Arrival> arrivals,
+                              std::vector<physics::SignalBin>& out) const {
+    const GeigerGate& g = *geiger_;
+    out.clear();
+    for (const physics::Arrival& a : arrivals) {
+        const double d = double(a.delay_ps) * 1e-3 - g.open_ns;  // from the gate's opening
+        const double lo = std::floor((d + g.shape_lo) / g.bin_ns);
+        const double hi = std::floor((d + g.shape_hi) / g.bin_ns);
+        const double first = std::max(0.0, lo), last = std::min(double(g.bins) - 1.0, hi);
+        double below = g.cumulative(first * g.bin_ns - d);
+        for (double k = first; k <= last; k += 1.0) {
+            const double above = g.cumulative((k + 1.0) * g.bin_ns - d);
+            const double s = double(a.pe) * (above - below);
+            below = above;
+            if (s > 0.0) out.push_back({static_cast<std::uint32_t>(k), s});
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) { return x.k < y.k; });
+    std::size_t n = 0;
+    for (std::size_t j = 0; j < out.size(); ++j) {
+        if (n > 0 && out[n - 1].k == out[j].k)
+            out[n - 1].signal += out[j].signal;
+        else
+            out[n++] = out[j];
+    }
+    out.resize(n);
+}
+
+// Background photo-electrons per ns at the pixel (the strongest arrival's surface under the sun)
+// plus its dark counts; none with noise off.
+double PulseShader::geiger_noise_per_ns(const std::vector<Hit>& hits,
+                                        std::span<const physics::Arrival> arrivals) const {
+    return opt_.noise ? geiger_->dark_per_ns + background_per_ns(hits, arrivals) : 0.0;
+}
+
+// Each pulse's events (with an array's crosstalk, frame by frame), then as pending returns
+// (event j of a pulse: return j), with their kinds.
+void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits,
+                                 const double* terms, const std::vector<double>& weighted_k,
+                                 ShadeScratch& scratch, ShadedPoints& out) const {
+    const std::size_t n = g.specs.size();
+    GeigerBatch& b = scratch.geiger;
+    b.events.clear();
+    b.arrivals.clear();
+    b.event_at.assign(1, 0);
+    b.arrival_at.assign(1, 0);
+    b.expected.clear();
+    for (std::uint32_t i = 0; i < n; ++i) {
+        out.stats.pulses++;
+        const bool close = pixel_events(g, hits, terms, weighted_k, i, scratch);
+        if (b.event_at[i + 1] == b.event_at[i]) (close ? out.stats.too_close : out.stats.misses)++;
+    }
+    if (sensor_.geiger.crosstalk_probability > 0.0 && opt_.noise) {
+        // Frame by frame into new lists (the pixel-pulses of one laser pulse are adjacent).
+        std::vector<physics::GeigerEvent> events;
+        std::vector<std::size_t> at{0};
+        for (std::uint32_t i = 0; i < n; i += sensor_.array.pixels()) {
+            crosstalk(g, i, b);
+            for (const auto& pixel : b.frame) {
+                events.insert(events.end(), pixel.begin(), pixel.end());
+                at.push_back(events.size());
+            }
+        }
+        b.events = std::move(events);
+        b.event_at = std::move(at);
+    }
+    scratch.event_kind.clear();
+    scratch.expected_pe.clear();
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const std::span<const physics::Arrival> arrivals(b.arrivals.data() + b.arrival_at[i],
+                                                         b.arrival_at[i + 1] - b.arrival_at[i]);
+        for (std::size_t e = b.event_at[i]; e < b.event_at[i + 1]; ++e)
+            add_event(i, static_cast<std::uint32_t>(e - b.event_at[i]), b.events[e], arrivals,
+                      scratch);
+        scratch.expected_pe.insert(scratch.expected_pe.end(), b.event_at[i + 1] - b.event_at[i],
+                                   b.expected[i]);
+    }
+}
+
+// Pulse i's arrivals (sorted, times its energy factor) and events appended to the batch's; true
+// if a hit was closer than the receiver's minimum range.
+bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
+                               const std::vector<double>& weighted_k, std::uint32_t i,
+                               ShadeScratch& scratch) const {
+    const GeigerGate& gate = *geiger_;
+    GeigerBatch& b = scratch.geiger;
+    auto& arrivals = scratch.arrivals;
+    const std::uint64_t pulse = g.first + i;
+    const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
+                                      scratch.paths ? &scratch.path : nullptr);
+    std::sort(arrivals.begin(), arrivals.end(),
+              [](const auto& x, const auto& y) { return x.delay_ps < y.delay_ps; });
+    const double energy = energy_factor(pulse);
+    double expected = 0;
+    for (auto& a : arrivals) expected += a.pe = static_cast<float>(a.pe * energy);
+    signal_bins(arrivals, scratch.signal_bins);
+    scratch.rate.assign(gate.bins, scratch.signal_bins,
+                        geiger_noise_per_ns(hits, arrivals) * gate.bin_ns, gate.bin_ns);
+    // With noise off the photon statistics stay (they are the measurement); the pixel's own
+    // noise (dark counts, background, jitter, afterpulses) goes.
+    physics::GeigerPixel pixel = gate.pixel;
+    if (!opt_.noise) pixel.jitter_ns = pixel.afterpulse_p = 0.0;
+    core::PulseRng rng(opt_.seed, pulse, kGeigerStream);
+    physics::geiger_events(scratch.rate, pixel, rng, std::size_t(sensor_.geiger.max_events),
+                           scratch.events);
+    b.events.insert(b.events.end(), scratch.events.begin(), scratch.events.end());
+    b.arrivals.insert(b.arrivals.end(), arrivals.begin(), arrivals.end());
+    b.event_at.push_back(b.events.size());
+    b.arrival_at.push_back(b.arrivals.size());
+    b.expected.push_back(expected);
+    return close;
+}
+
+// Crosstalk over the frame of pulses [i0, i0 + N), into b.frame (per pixel, in time order) (an
+// array's pixels in order; docs/ photon-counting.md §2): the frame's events in time order; one
+// while its pixel is dead (after an earlier detection, its own or a neighbour's) is lost, one while
+// armed is kept and fires each of the pixel's four neighbours with the crosstalk probability
+// (uniforms from the firing pixel-pulse's stream 9, in the order of its detections and of its
+// neighbours), at the same time. Exact for a pixel that reports its first event only; with more, an
+// own event lost to a crosstalk's dead time is not redrawn.
+void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const {
+    const auto& a = sensor_.array;
+    const std::uint32_t n = std::min<std::uint32_t>(a.pixels(), std::uint32_t(g.specs.size() - i0));
+    b.frame.assign(n, {});
+    if (g.specs[i0].pixel != 0) {  // a frame cut by the batch (never in render()): as it is
+        for (std::uint32_t p = 0; p < n; ++p)
+            b.frame[p].assign(b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p]),
+                              b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p + 1]));
+        return;
+    }
+    struct Pending {
+        double t;
+        std::uint32_t p;
+        physics::GeigerEvent e;
+        bool operator>(const Pending& o) const { return t > o.t || (t == o.t && p > o.p); }
+    };
+    std::priority_queue<Pending, std::vector<Pending>, std::greater<>> queue;
+    for (std::uint32_t p = 0; p < n; ++p)
+        for (std::size_t e = b.event_at[i0 + p]; e < b.event_at[i0 + p + 1]; ++e)
+            queue.push({b.events[e].t_ns, p, b.events[e]});
+    std::vector<double> armed(n, -std::numeric_limits<double>::infinity());
+    std::vector<std::optional<core::PulseRng>> rng(n);
+    const double px = sensor_.geiger.crosstalk_probability, dead = sensor_.geiger.dead_time_ns;
+    const auto max_events = static_cast<std::size_t>(sensor_.geiger.max_events);
+    while (!queue.empty()) {
+        const Pending q = queue.top();
+        queue.pop();
+        if (q.t < armed[q.p] || b.frame[q.p].size() >= max_events) continue;
+        b.frame[q.p].push_back(q.e);
+        armed[q.p] = q.t + dead;
+        if (!rng[q.p]) rng[q.p].emplace(opt_.seed, g.first + i0 + q.p, kCrosstalkStream);
+        const std::uint32_t col = q.p % a.columns, row = q.p / a.columns;
+        const std::int64_t step[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+        for (const auto& s : step) {
+            const bool hit = rng[q.p]->uniform() < px;
+            const std::int64_t c = std::int64_t(col) + s[0], r = std::int64_t(row) + s[1];
+            if (!hit || c < 0 || r < 0 || c >= std::int64_t(a.columns) || r >= std::int64_t(a.rows))
+                continue;
+            const auto to = static_cast<std::uint32_t>(r * a.columns + c);
+            if (to < n) queue.push({q.t, to, {q.e.t_ns, physics::EventKind::Crosstalk}});
+        }
+    }
+}
+
+// An event as a pending return at c/2 of its time since emission; a signal event takes the
+// surface of the arrival nearest in time, any other the atmosphere's (no surface).
+void PulseShader::add_event(std::uint32_t i, std::uint32_t k, const physics::GeigerEvent& e,
+                            std::span<const physics::Arrival> arrivals,
+                            ShadeScratch& scratch) const {
+    const double t_ns = geiger_->open_ns + e.t_ns;
+    std::uint32_t hit = kVolumeHit;
+    if (e.kind == physics::EventKind::Signal && !arrivals.empty()) {
+        const auto at = static_cast<std::int64_t>(t_ns * 1e3);
+        auto it = std::lower_bound(arrivals.begin(), arrivals.end(), at,
+                                   [](const auto& a, std::int64_t v) { return a.delay_ps < v; });
+        if (it == arrivals.end() ||
+            (it != arrivals.begin() && at - std::prev(it)->delay_ps < it->delay_ps - at))
+            --it;
+        hit = it->hit;
+    }
+    scratch.pending.push_back({t_ns / kNsPerMeterTwoWay, 0.0, i, hit, k});
+    scratch.event_kind.push_back(static_cast<std::uint8_t>(1 + static_cast<int>(e.kind)));
+}
+
+// Ranges and positions of the events along each pixel's line of sight, no intensity, no voids.
+void PulseShader::event_points(const RayBatch& g, ShadeScratch& scratch) const {
+    const std::size_t np = scratch.pending.size();
+    scratch.range.resize(np);
+    scratch.n_laser.assign(scratch.expected_pe.begin(), scratch.expected_pe.end());
+    scratch.intensity.assign(np, 0);
+    scratch.voids.assign(np, 0.0);
+    for (int a = 0; a < 3; ++a) {
+        scratch.dir[a].resize(np);
+        scratch.at[a].resize(np);
+    }
+    for (std::size_t j = 0; j < np; ++j) {
+        const std::uint32_t i = scratch.pending[j].i;
+        const double r = scratch.pending[j].range_m;
+        scratch.range[j] = r;
+        for (int a = 0; a < 3; ++a) {
+            scratch.dir[a][j] = g.direction[a][i];
+            scratch.at[a][j] = g.origin[a][i] + r * g.direction[a][i];
+        }
+    }
+}
+
+}  // namespace mirage::render
