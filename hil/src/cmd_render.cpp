@@ -2,8 +2,11 @@
 // `mirage render`: scene + sensor + trajectory -> LAS file.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <span>
+#include <vector>
 
 #include "commands.hpp"
 #include "job.hpp"
@@ -11,6 +14,7 @@
 #include "mirage/core/error.hpp"
 #include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
+#include "mirage/render/coincidence.hpp"
 #include "progress.hpp"
 #include "summary.hpp"
 
@@ -21,7 +25,56 @@ struct Opts {
     JobInputs job;
     std::string out;
     LasChoice las;
+    std::string coincidence;  // the coincidence-processed points' LAS file (Geiger sensors)
+    render::CoincidenceParams cp;
 };
+
+// The LAS sink, and each pulse's first event kept for the coincidence processor.
+class FirstEvents : public render::PointSink {
+  public:
+    explicit FirstEvents(render::PointSink& out) : out_(out) {}
+    void write(std::span<const core::PointRecord> points) override {
+        out_.write(points);
+        for (const auto& p : points)
+            if (p.return_number == 1) events.push_back(p);
+    }
+    void pulses_done(std::uint64_t next) override { out_.pulses_done(next); }
+    void finish() override { out_.finish(); }
+    std::vector<core::PointRecord> events;
+
+  private:
+    render::PointSink& out_;
+};
+
+// Coincidence-processed points as LAS records: GPS time of the run's start, the expected events
+// per gate in n_laser and ×1000 as intensity (docs/photon-counting.md §5).
+void write_coincidence(const Opts& o, const Job& job, const las::LasWriterOptions& lo,
+                       std::span<const core::PointRecord> events) {
+    render::CoincidenceStats st;
+    const auto pts = render::coincidence(job.setup(), events, o.cp, &st);
+    las::LasWriterOptions plain = lo;
+    plain.event_fields = false;
+    las::LasWriter w(o.coincidence, job.scene->georef, plain);
+    std::vector<core::PointRecord> recs(pts.size());
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+        auto& r = recs[k];
+        r.x = pts[k].x, r.y = pts[k].y, r.z = pts[k].z;
+        r.t = job.options.start;
+        r.n_laser = pts[k].expected;
+        r.intensity = static_cast<std::uint16_t>(std::min(65535.0, 1000.0 * pts[k].expected));
+        r.classification = pts[k].classification;
+        r.point_source_id = job.sensor.point_source_id;
+    }
+    w.write(recs);
+    w.close();
+    std::printf(
+        "  coincidence: %llu gates over %llu cells of %.2f m (%.1f gates per cell), "
+        "%llu first events, noise %.3g per gate and %.2f m bin -> %llu points in %s\n",
+        static_cast<unsigned long long>(st.gates), static_cast<unsigned long long>(st.cells),
+        o.cp.cell_m, st.cells ? double(st.gates) / double(st.cells) : 0.0,
+        static_cast<unsigned long long>(st.events), st.noise_per_bin, o.cp.bin_m,
+        static_cast<unsigned long long>(st.points), o.coincidence.c_str());
+}
 
 }  // namespace
 
@@ -46,13 +99,32 @@ void register_render(CLI::App& app) {
                   "Keep the waveform packets in an external .wdp file beside the LAS file");
     cmd->add_option("--scale", opts->las.scale, "LAS coordinate scale in metres")
         ->capture_default_str();
+    cmd->add_option("--coincidence", opts->coincidence,
+                    "Geiger-mode sensors: also write the coincidence-processed points to this LAS "
+                    "file (first events per ground cell and height bin, Coates' correction)");
+    cmd->add_option("--cell", opts->cp.cell_m, "Coincidence ground cell side, m")
+        ->check(CLI::Range(1e-3, 1e3))
+        ->capture_default_str();
+    cmd->add_option("--bin", opts->cp.bin_m, "Coincidence height bin, m")
+        ->check(CLI::Range(1e-3, 1e3))
+        ->capture_default_str();
+    cmd->add_option("--min-events", opts->cp.min_events,
+                    "Coincidence: events a bin needs at least to become a point")
+        ->check(CLI::Range(1u, 1000000u))
+        ->capture_default_str();
     cmd->callback([opts] {
         Job job = load_job(opts->job);
         std::fprintf(stderr, "%s", sensor::describe(job.sensor).c_str());
+        if (!opts->coincidence.empty() && job.sensor.detector != sensor::DetectorKind::Geiger)
+            throw mirage::ConfigError("render --coincidence: sensor '" + job.sensor.name +
+                                      "' has no Geiger-mode detector (detector.type: geiger)");
         las::LasWriterOptions lo = writer_options(opts->las, job);
         las::install_signal_finalizer();
         las::LasWriter writer(opts->out, job.scene->georef, lo);
-        las::LasSink sink(writer);
+        las::LasSink las_sink(writer);
+        FirstEvents tee(las_sink);
+        render::PointSink& sink =
+            opts->coincidence.empty() ? static_cast<render::PointSink&>(las_sink) : tee;
         ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
         const auto stats =
             render::render(job.setup(), sink, [&](const render::RenderStats& s) { bar.update(s); });
@@ -60,6 +132,7 @@ void register_render(CLI::App& app) {
         print_summary(stdout, "render", job, stats);
         std::printf("  wrote %s (LAS 1.4, point format %d, %llu points)\n", opts->out.c_str(),
                     lo.point_format, static_cast<unsigned long long>(writer.points_written()));
+        if (!opts->coincidence.empty()) write_coincidence(*opts, job, lo, tee.events);
     });
 }
 

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: Apache-2.0
+// Coincidence processing (docs/photon-counting.md §5): a Geiger-mode collection's photon events
+// become points. Every gate of every pixel-pulse is assigned to the ground cell its line of sight
+// crosses at mid-gate; per cell and height bin, the first events of the gates that looked there
+// make a histogram; Coates' correction over the gates still armed at each bin turns it into the
+// expected events per gate, and a bin whose count the cell's noise alone would reach with less
+// than the false-alarm probability (and with at least min_events) becomes a point.
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "mirage/core/point.hpp"
+#include "mirage/render/setup.hpp"
+
+namespace mirage::render {
+
+struct CoincidenceParams {
+    double cell_m = 0.5;  // ground cell side
+    double bin_m = 0.15;  // height bin
+    std::uint32_t min_events = 3;
+    double false_alarm = 1e-6;  // per bin: P(the cell's noise alone gives ≥ its count)
+};
+
+struct CoincidencePoint {
+    double x = 0, y = 0, z = 0;           // mean of the bin's events (local frame)
+    double expected = 0;                  // Coates: expected events per armed gate in the bin
+    std::uint32_t events = 0, gates = 0;  // first events in the bin; gates armed there
+    std::uint8_t classification = 1;      // most frequent class among its events
+    double signal_share = 0;              // its events flagged signal (truth, for tests)
+};
+
+struct CoincidenceStats {
+    std::uint64_t gates = 0, events = 0, cells = 0, points = 0;
+    double noise_per_bin = 0;  // mean over cells of the noise estimate (events per gate-bin)
+};
+
+// One gate: the line origin + r·dir (dir unit, looking down), open for r in [r0, r1].
+struct Gate {
+    Eigen::Vector3d origin, dir;
+    double r0 = 0, r1 = 0;
+};
+
+// A gate's first event (the only one Coates' correction counts): its position, class, truth.
+struct GateEvent {
+    double x = 0, y = 0, z = 0;
+    std::uint8_t classification = 1;
+    bool signal = false;
+};
+
+class CoincidenceGrid {
+  public:
+    explicit CoincidenceGrid(CoincidenceParams p);
+    // A gate and its first event (null: none fired). ConfigError for a gate not looking down.
+    void add(const Gate& gate, const GateEvent* first);
+    std::vector<CoincidencePoint> finish(CoincidenceStats* stats = nullptr) const;
+
+  private:
+    struct Column {
+        std::vector<std::int32_t> top, bottom;  // per gate: its first and last bin (top ≥ bottom)
+        std::vector<std::int32_t> fired;        // per first event: its bin
+        std::vector<GateEvent> events;
+        std::uint64_t armed_bins = 0;  // Σ over gates of the bins each was armed for
+    };
+    void finish_column(const Column& c, std::int64_t key, std::vector<CoincidencePoint>& out,
+                       double& noise) const;
+    std::int32_t bin_of(double z) const;
+
+    CoincidenceParams p_;
+    std::unordered_map<std::int64_t, Column> columns_;
+    std::uint64_t gates_ = 0, events_ = 0;
+};
+
+// A rendered Geiger-mode collection's events (`events`, in pulse order as render() writes them)
+// through the grid: every pulse of the setup's run is a gate from the receiver's minimum to its
+// maximum range along its line of sight.
+std::vector<CoincidencePoint> coincidence(const Setup& setup,
+                                          std::span<const core::PointRecord> events,
+                                          const CoincidenceParams& params,
+                                          CoincidenceStats* stats = nullptr);
+
+}  // namespace mirage::render

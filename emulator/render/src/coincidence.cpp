@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: Apache-2.0
+// Coincidence processing (docs/photon-counting.md §5).
+#include "mirage/render/coincidence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "mirage/core/error.hpp"
+#include "mirage/render/trace_batches.hpp"
+#include "ray_batch.hpp"
+
+namespace mirage::render {
+namespace {
+
+// A gate must look down: its height falls along the line (cells are vertical columns).
+constexpr double kMinDownward = 0.5;
+
+// P(Poisson(mean) ≥ k) by the complement of the first k terms (k small where it matters).
+double poisson_tail(double mean, std::uint32_t k) {
+    if (k == 0) return 1.0;
+    if (!(mean > 0.0)) return 0.0;
+    double term = std::exp(-mean), below = term;
+    for (std::uint32_t i = 1; i < k; ++i) {
+        term *= mean / double(i);
+        below += term;
+        if (term < 1e-300 * below) break;
+    }
+    return std::max(0.0, 1.0 - below);
+}
+
+std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
+
+}  // namespace
+
+CoincidenceGrid::CoincidenceGrid(CoincidenceParams p) : p_(p) {
+    if (!(p_.cell_m > 0.0) || !(p_.bin_m > 0.0) || !(p_.false_alarm > 0.0 && p_.false_alarm < 1.0))
+        throw ConfigError(
+            "coincidence: cell and bin sizes must be > 0 and the false-alarm "
+            "probability in (0, 1)");
+}
+
+std::int32_t CoincidenceGrid::bin_of(double z) const {
+    return static_cast<std::int32_t>(std::floor(z / p_.bin_m));
+}
+
+void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
+    if (!(gate.dir.z() < -kMinDownward))
+        throw ConfigError("coincidence: a gate looks " + std::to_string(gate.dir.z()) +
+                          " down (needs a line of sight within 60° of nadir)");
+    const Eigen::Vector3d mid = gate.origin + 0.5 * (gate.r0 + gate.r1) * gate.dir;
+    const auto ix = static_cast<std::int64_t>(std::floor(mid.x() / p_.cell_m));
+    const auto iy = static_cast<std::int64_t>(std::floor(mid.y() / p_.cell_m));
+    Column& c = columns_[cell_key(ix, iy)];
+    const std::int32_t top = bin_of(gate.origin.z() + gate.r0 * gate.dir.z());
+    const std::int32_t bottom = bin_of(gate.origin.z() + gate.r1 * gate.dir.z());
+    c.top.push_back(top);
+    c.bottom.push_back(bottom);
+    gates_++;
+    if (!first) {
+        c.armed_bins += std::uint64_t(top - bottom + 1);
+        return;
+    }
+    const std::int32_t b = std::clamp(bin_of(first->z), bottom, top);
+    c.fired.push_back(b);
+    c.events.push_back(*first);
+    c.armed_bins += std::uint64_t(top - b + 1);
+    events_++;
+}
+
+std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats) const {
+    std::vector<CoincidencePoint> out;
+    double noise_sum = 0;
+    for (const auto& [key, c] : columns_) {
+        double noise = 0;
+        finish_column(c, key, out, noise);
+        noise_sum += noise;
+    }
+    if (stats) {
+        stats->gates = gates_;
+        stats->events = events_;
+        stats->cells = columns_.size();
+        stats->points = out.size();
+        stats->noise_per_bin = columns_.empty() ? 0.0 : noise_sum / double(columns_.size());
+    }
+    return out;
+}
+
+// Per event bin b (scanning down): gates covering b, less those that fired above it, are armed;
+// n̂_b = −ln(1 − h_b/A_b). The noise per gate-bin is the column's events over its armed
+// gate-bins, taken again without the bins that stand out (a surface's own events).
+void CoincidenceGrid::finish_column(const Column& c, std::int64_t,
+                                    std::vector<CoincidencePoint>& out, double& noise) const {
+    if (c.events.empty()) return;
+    std::vector<std::int32_t> top = c.top, bottom = c.bottom, fired = c.fired;
+    std::sort(top.begin(), top.end());
+    std::sort(bottom.begin(), bottom.end());
+    std::sort(fired.begin(), fired.end());
+    // Distinct event bins, top first, with their counts and armed gates.
+    struct Bin {
+        std::int32_t b;
+        std::uint32_t h, armed;
+    };
+    std::vector<Bin> bins;
+    for (auto it = fired.rbegin(); it != fired.rend();) {
+        const std::int32_t b = *it;
+        const auto lo = std::lower_bound(fired.begin(), fired.end(), b);
+        const auto hi = std::upper_bound(fired.begin(), fired.end(), b);
+        const auto covering = (top.end() - std::lower_bound(top.begin(), top.end(), b)) -
+                              (bottom.end() - std::upper_bound(bottom.begin(), bottom.end(), b));
+        const auto above = fired.end() - hi;
+        bins.push_back({b, static_cast<std::uint32_t>(hi - lo),
+                        static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(covering - above, 0))});
+        it += hi - lo;
+    }
+    const auto stands_out = [&](const Bin& x, double nu) {
+        return x.h >= p_.min_events && poisson_tail(nu * x.armed, x.h) < p_.false_alarm;
+    };
+    noise = double(c.events.size()) / double(std::max<std::uint64_t>(1, c.armed_bins));
+    for (int pass = 0; pass < 3; ++pass) {  // a few rounds settle which bins stand out
+        double h_rest = double(c.events.size()), a_rest = double(c.armed_bins);
+        for (const Bin& x : bins)
+            if (stands_out(x, noise)) h_rest -= x.h, a_rest -= x.armed;
+        noise = a_rest > 0.0 ? std::max(0.0, h_rest) / a_rest : 0.0;
+    }
+    for (const Bin& x : bins) {
+        if (!stands_out(x, noise) || x.armed == 0) continue;
+        CoincidencePoint pt;
+        pt.events = x.h;
+        pt.gates = x.armed;
+        pt.expected = x.h >= x.armed ? INFINITY : -std::log1p(-double(x.h) / double(x.armed));
+        std::uint32_t by_class[256] = {};
+        std::uint32_t signal = 0;
+        for (std::size_t j = 0; j < c.events.size(); ++j) {
+            if (c.fired[j] != x.b) continue;
+            const GateEvent& e = c.events[j];
+            pt.x += e.x, pt.y += e.y, pt.z += e.z;
+            by_class[e.classification]++;
+            signal += e.signal;
+        }
+        const double n = double(x.h);
+        pt.x /= n, pt.y /= n, pt.z /= n;
+        pt.classification =
+            static_cast<std::uint8_t>(std::max_element(by_class, by_class + 256) - by_class);
+        pt.signal_share = double(signal) / n;
+        out.push_back(pt);
+    }
+}
+
+std::vector<CoincidencePoint> coincidence(const Setup& setup,
+                                          std::span<const core::PointRecord> events,
+                                          const CoincidenceParams& params,
+                                          CoincidenceStats* stats) {
+    CoincidenceGrid grid(params);
+    const auto& rx = setup.sensor.receiver;
+    const RayBatchBuilder builder(setup.sensor, setup.trajectory, setup.mount, setup.options.start);
+    const std::uint64_t pulses = setup.sensor.scan->pulse_count(setup.options.duration);
+    const std::size_t batch = trace_batch_pulses(setup.sensor);
+    RayBatch g;
+    std::size_t next = 0;  // the next event to look at
+    for (std::uint64_t first = 0; first < pulses; first += batch) {
+        builder.build(first,
+                      static_cast<std::size_t>(std::min<std::uint64_t>(batch, pulses - first)), g);
+        for (std::size_t i = 0; i < g.specs.size(); ++i) {
+            const std::uint64_t pulse = first + i;
+            while (next < events.size() && events[next].pulse < pulse) ++next;
+            const core::PointRecord* e =
+                next < events.size() && events[next].pulse == pulse ? &events[next] : nullptr;
+            GateEvent ge;
+            if (e) ge = {e->x, e->y, e->z, e->classification, e->event == 1};
+            grid.add({g.origin_of(i), g.direction_of(i), rx.min_range_m, rx.max_range_m},
+                     e ? &ge : nullptr);
+        }
+    }
+    return grid.finish(stats);
+}
+
+}  // namespace mirage::render
