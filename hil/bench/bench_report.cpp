@@ -71,6 +71,26 @@ void markdown_detectors(std::ostream& md, const BenchReport& r) {
             fig(d.decomposition_to_peak()));
 }
 
+void markdown_photon(std::ostream& md, const BenchReport& r) {
+    if (r.photon.empty()) return;
+    md << "\n## Photon counting (Geiger-mode arrays, same rays, same run)\n\n"
+          "The Geiger-mode pipeline (one pixel-pulse per pixel and laser pulse, events to a LAS "
+          "sink on /dev/null) and the Embree ceiling of its rays, interleaved, the best of each; "
+          "real time is the sensor's own pixel-pulse rate; the coincidence processor's time is "
+          "for the whole collection against its duration (docs/photon-counting.md §7).\n\n"
+          "| sensor | trajectory | pixel-pulses | M pixel-pulses/s | M events/s | ceiling M "
+          "pixel-pulses/s | pipeline / ceiling | x real time | coincidence s | coincidence x real "
+          "time | points |\n"
+          "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& p : r.photon)
+        md << fmt::format(
+            "| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.2f} | {:.3f} | {:.3f} | {:.2f} | {} "
+            "|\n",
+            p.sensor, p.trajectory, p.pulses, fig(p.pulses_per_s / 1e6), fig(p.points_per_s / 1e6),
+            fig(p.ceiling_pulses_per_s / 1e6), fig(p.to_ceiling()), fig(p.x_real_time()),
+            fig(p.coincidence_seconds), fig(p.coincidence_x_real_time()), p.coincidence_points);
+}
+
 void markdown_paths(std::ostream& md, const BenchReport& r) {
     if (r.paths.empty()) return;
     md << "\n## Path depth (same rays, same run)\n\n"
@@ -140,6 +160,7 @@ void write_markdown(const BenchReport& r, const std::string& path) {
     markdown_throughput(md, r);
     markdown_detectors(md, r);
     markdown_paths(md, r);
+    markdown_photon(md, r);
     md << fmt::format(
         "\nLAS write (point format 6, to a file): {:.2f} M points/s, {:.0f} MB/s ({} points).\n\n",
         fig(r.las_points_per_s / 1e6), fig(r.las_mb_per_s), r.las_points);
@@ -177,6 +198,23 @@ nlohmann::ordered_json detector_json(const DetectorRow& d) {
             {"decomposition_pulses_per_s", d.decomposition_pulses_per_s},
             {"cfd_to_peak", d.cfd_to_peak()},
             {"decomposition_to_peak", d.decomposition_to_peak()}};
+}
+
+nlohmann::ordered_json photon_json(const PhotonRow& p) {
+    return {{"sensor", p.sensor},
+            {"trajectory", p.trajectory},
+            {"pixel_pulses", p.pulses},
+            {"events", p.points},
+            {"repeats", p.repeats},
+            {"pixel_pulses_per_s", p.pulses_per_s},
+            {"events_per_s", p.points_per_s},
+            {"ceiling_pixel_pulses_per_s", p.ceiling_pulses_per_s},
+            {"pipeline_to_ceiling", p.to_ceiling()},
+            {"x_real_time", p.x_real_time()},
+            {"collection_seconds", p.collection_seconds},
+            {"coincidence_seconds", p.coincidence_seconds},
+            {"coincidence_x_real_time", p.coincidence_x_real_time()},
+            {"coincidence_points", p.coincidence_points}};
 }
 
 nlohmann::ordered_json path_json(const PathRow& p) {
@@ -232,11 +270,13 @@ std::string report_json(const BenchReport& r) {
                                 {"throughput", nlohmann::ordered_json::array()},
                                 {"waveform_detector", nlohmann::ordered_json::array()},
                                 {"path_depth", nlohmann::ordered_json::array()},
+                                {"photon_counting", nlohmann::ordered_json::array()},
                                 {"time_vs_error", nlohmann::ordered_json::array()},
                                 {"bvh_quality", nlohmann::ordered_json::array()}};
     for (const auto& t : r.throughput) j["throughput"].push_back(throughput_json(t));
     for (const auto& d : r.detectors) j["waveform_detector"].push_back(detector_json(d));
     for (const auto& p : r.paths) j["path_depth"].push_back(path_json(p));
+    for (const auto& p : r.photon) j["photon_counting"].push_back(photon_json(p));
     for (const auto& e : r.errors) j["time_vs_error"].push_back(error_json(e));
     for (const auto& b : r.bvh) j["bvh_quality"].push_back(bvh_json(b));
     return j.dump(2) + "\n";

@@ -84,6 +84,25 @@ struct ErrorRow {
     double other_surface = 0, same_surface_range_rms_m = 0;
 };
 
+// A photon-counting array over the demo town (docs/photon-counting.md §7): the Geiger-mode
+// pipeline against the ceiling of the same rays, its real-time factor, and the coincidence
+// processor's time for the collection.
+struct PhotonRow {
+    std::string sensor, trajectory;
+    std::uint64_t pulses = 0, points = 0, coincidence_points = 0;  // pixel-pulses, events
+    int repeats = 1;
+    double pulses_per_s = 0, points_per_s = 0, ceiling_pulses_per_s = 0;
+    double real_pulse_rate = 0;  // pixel-pulses per second of the sensor
+    double collection_seconds = 0, coincidence_seconds = 0;
+    double to_ceiling() const {
+        return ceiling_pulses_per_s > 0 ? pulses_per_s / ceiling_pulses_per_s : 0;
+    }
+    double x_real_time() const { return real_pulse_rate > 0 ? pulses_per_s / real_pulse_rate : 0; }
+    double coincidence_x_real_time() const {
+        return coincidence_seconds > 0 ? collection_seconds / coincidence_seconds : 0;
+    }
+};
+
 // A BVH quality: build time and memory, and the render time of one job with it.
 struct BvhRow {
     std::string quality;
@@ -99,6 +118,7 @@ struct BenchReport {
     std::vector<ThroughputRow> throughput;
     std::vector<DetectorRow> detectors;
     std::vector<PathRow> paths;
+    std::vector<PhotonRow> photon;
     double las_points_per_s = 0, las_mb_per_s = 0;
     std::uint64_t las_points = 0;
     std::vector<ErrorRow> errors;

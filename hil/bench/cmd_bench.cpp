@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <span>
 #include <thread>
+#include <vector>
 
 #include "bench_error.hpp"
 #include "bench_report.hpp"
@@ -15,6 +17,7 @@
 #include "job.hpp"
 #include "mirage/las/las_sink.hpp"
 #include "mirage/las/las_writer.hpp"
+#include "mirage/render/coincidence.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -36,6 +39,16 @@ struct Opts {
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+// Each pixel-pulse's first event, kept for the coincidence processor.
+class FirstEventSink : public render::PointSink {
+  public:
+    void write(std::span<const core::PointRecord> points) override {
+        for (const auto& p : points)
+            if (p.return_number == 1) events.push_back(p);
+    }
+    std::vector<core::PointRecord> events;
+};
 
 render::RenderStats run_pipeline_to_null(const Job& job) {
     las::LasWriter writer("/dev/null", job.scene->georef);
@@ -226,6 +239,51 @@ void bench_paths(const BenchBase& base, const Job& shared, const Opts& o, BenchR
     }
 }
 
+// The Geiger-mode array at night from a 1 200 m hover over the town (its gate's range): the
+// pipeline into /dev/null and the ceiling of its rays, interleaved; then the coincidence processor
+// over one run's events, timed against the collection's duration.
+PhotonRow photon_row(const BenchBase& base, const Job& shared, const Opts& o) {
+    JobInputs in = base.inputs;
+    in.sensor = "gmapd-32x32";
+    in.trajectory = "static:0,0,1200";
+    in.duration = o.quick ? "0.005" : "0.1";
+    in.sun_elevation_deg = -1;
+    Job job = load_job_with_scene(in, base.town, base.scene_seconds, false);
+    job.renderer = shared.renderer;
+    PhotonRow row;
+    row.sensor = in.sensor;
+    row.trajectory = in.trajectory + " at night";
+    row.pulses = job.sensor.scan->pulse_count(job.options.duration);
+    row.real_pulse_rate = job.sensor.scan->pulse_rate_hz();
+    row.collection_seconds = std::chrono::duration<double>(job.options.duration).count();
+    row.repeats = o.quick && !o.repeat_given ? 1 : o.repeat;
+    for (int k = 0; k < row.repeats; ++k) {
+        const render::RenderStats run = run_pipeline_to_null(job);
+        if (double(run.pulses) / run.seconds > row.pulses_per_s) {
+            row.pulses_per_s = double(run.pulses) / run.seconds;
+            row.points_per_s = double(run.points) / run.seconds;
+            row.points = run.points;
+        }
+        row.ceiling_pulses_per_s =
+            std::max(row.ceiling_pulses_per_s, trace_ceiling(job.setup()).pulses_per_s());
+    }
+    FirstEventSink events;
+    render::render(job.setup(), events);
+    const auto t0 = Clock::now();
+    render::CoincidenceStats st;
+    render::coincidence(job.setup(), events.events, {}, &st);
+    row.coincidence_seconds = seconds_since(t0);
+    row.coincidence_points = st.points;
+    fmt::print(
+        "{:>11} photon counting: {:6.3f} M pixel-pulses/s ({:6.3f} M events/s) | ceiling "
+        "{:6.3f} | ratio {:.2f} | {:.3f}x real time | coincidence {:.3f} s for {:.3f} s "
+        "({:.2f}x real time, {} points)\n",
+        row.sensor, row.pulses_per_s / 1e6, row.points_per_s / 1e6, row.ceiling_pulses_per_s / 1e6,
+        row.to_ceiling(), row.x_real_time(), row.coincidence_seconds, row.collection_seconds,
+        row.coincidence_x_real_time(), row.coincidence_points);
+    return row;
+}
+
 // LAS write rate to a real file.
 void bench_las_rate(const Job& shared, const Opts& o, BenchReport& report) {
     const std::uint64_t n = o.quick ? 500'000 : 5'000'000;
@@ -293,6 +351,9 @@ void run_bench(const Opts& o) {
     bench_throughput(base, shared, o, report);
     bench_detectors(base, shared, o, report);
     bench_paths(base, shared, o, report);
+    if (o.sensors.empty() ||
+        std::find(o.sensors.begin(), o.sensors.end(), "gmapd-32x32") != o.sensors.end())
+        report.photon.push_back(photon_row(base, shared, o));
     if (!o.throughput_only) {  // a partial run writes no report files
         bench_las_rate(shared, o, report);
         bench_errors(base, o.quick, report);
@@ -317,7 +378,7 @@ void register_bench(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--quick", o->quick, "Short run for CI (small durations, fewer settings)");
     cmd->add_option("--sensor", o->sensors,
-                    "Only these throughput sensors (vlp16, hdl64e-s3, als-mirror); repeatable");
+                    "Only these sensors (vlp16, hdl64e-s3, als-mirror, gmapd-32x32); repeatable");
     cmd->add_option("--sub-rays", o->sub_rays, "Only these sub-ray counts; repeatable");
     cmd->add_flag("--throughput-only", o->throughput_only,
                   "Skip the LAS-rate and run-time-against-error parts");

@@ -123,28 +123,43 @@ void CoincidenceGrid::finish_column(const Column& c, std::int64_t,
             if (stands_out(x, noise)) h_rest -= x.h, a_rest -= x.armed;
         noise = a_rest > 0.0 ? std::max(0.0, h_rest) / a_rest : 0.0;
     }
+    // The column's events by bin, so each point reads its own.
+    std::vector<std::uint32_t> order(c.events.size());
+    for (std::uint32_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return c.fired[a] < c.fired[b]; });
+    std::vector<std::int32_t> keys(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) keys[k] = c.fired[order[k]];
     for (const Bin& x : bins) {
         if (!stands_out(x, noise) || x.armed == 0) continue;
-        CoincidencePoint pt;
-        pt.events = x.h;
-        pt.gates = x.armed;
-        pt.expected = x.h >= x.armed ? INFINITY : -std::log1p(-double(x.h) / double(x.armed));
-        std::uint32_t by_class[256] = {};
-        std::uint32_t signal = 0;
-        for (std::size_t j = 0; j < c.events.size(); ++j) {
-            if (c.fired[j] != x.b) continue;
-            const GateEvent& e = c.events[j];
-            pt.x += e.x, pt.y += e.y, pt.z += e.z;
-            by_class[e.classification]++;
-            signal += e.signal;
-        }
-        const double n = double(x.h);
-        pt.x /= n, pt.y /= n, pt.z /= n;
-        pt.classification =
-            static_cast<std::uint8_t>(std::max_element(by_class, by_class + 256) - by_class);
-        pt.signal_share = double(signal) / n;
-        out.push_back(pt);
+        const auto [lo, hi] = std::equal_range(keys.begin(), keys.end(), x.b);
+        out.push_back(bin_point(c, x.h, x.armed,
+                                std::span<const std::uint32_t>(order.data() + (lo - keys.begin()),
+                                                               static_cast<std::size_t>(hi - lo))));
     }
+}
+
+// A standing-out bin's point: its events' mean position, most frequent class and truth share.
+CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::uint32_t h, std::uint32_t armed,
+                                            std::span<const std::uint32_t> events) const {
+    CoincidencePoint pt;
+    pt.events = h;
+    pt.gates = armed;
+    pt.expected = h >= armed ? INFINITY : -std::log1p(-double(h) / double(armed));
+    std::uint32_t by_class[256] = {};
+    std::uint32_t signal = 0;
+    for (const std::uint32_t j : events) {
+        const GateEvent& e = c.events[j];
+        pt.x += e.x, pt.y += e.y, pt.z += e.z;
+        by_class[e.classification]++;
+        signal += e.signal;
+    }
+    const double n = double(h);
+    pt.x /= n, pt.y /= n, pt.z /= n;
+    pt.classification =
+        static_cast<std::uint8_t>(std::max_element(by_class, by_class + 256) - by_class);
+    pt.signal_share = double(signal) / n;
+    return pt;
 }
 
 std::vector<CoincidencePoint> coincidence(const Setup& setup,

@@ -126,4 +126,12 @@ void make_array(SensorModel& m, const std::string& source) {
     m.wire = {};  // no vendor packet carries an array
 }
 
+void unmake_array(SensorModel& m) {
+    if (!m.array.on()) return;
+    if (const auto* scan = dynamic_cast<const ArrayScan*>(m.scan.get()))
+        m.scan = scan->laser_pattern();
+    m.beam.divergence_rad = m.array.laser_divergence_rad;
+    m.beam.profile = m.array.laser_profile;
+}
+
 }  // namespace mirage::sensor

@@ -112,8 +112,17 @@ std::string describe(const SensorModel& m) {
         (rx.integration_time_s > 0 ? rx.integration_time_s : b.pulse_width_s) * 1e9,
         rx.noise_irradiance_sigma, per_sigma > 0 ? rx.noise_irradiance_sigma / per_sigma : 0.0,
         rx.threshold_gamma, rx.min_range_m, rx.max_range_m, rx.range_resolution_m, rx.max_returns);
-    out += fmt::format("  link: 10% Lambertian at {:.1f} m -> {:.0f} photo-electrons\n",
-                       rx.max_range_m, lambertian_electrons(b, rx, 0.1, rx.max_range_m));
+    if (m.array.on()) {  // a pixel takes its share of the pulse and its fill factor of the light
+        float top = 0;
+        for (float s : m.array.share) top = std::max(top, s);
+        out += fmt::format(
+            "  link: 10% Lambertian at {:.1f} m -> {:.3g} photo-electrons in the brightest pixel\n",
+            rx.max_range_m,
+            double(top) * m.array.fill_factor * lambertian_electrons(b, rx, 0.1, rx.max_range_m));
+    } else {
+        out += fmt::format("  link: 10% Lambertian at {:.1f} m -> {:.0f} photo-electrons\n",
+                           rx.max_range_m, lambertian_electrons(b, rx, 0.1, rx.max_range_m));
+    }
     if (rx.speckle_cells != 0)
         out += fmt::format("  speckle: {:.1f} cells{} (contrast {:.3f})\n", speckle_cells(m),
                            rx.speckle_cells == kSpeckleAuto ? " from aperture and spot" : "",

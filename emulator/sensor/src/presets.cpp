@@ -9,6 +9,7 @@
 #include "calibration_tables.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/airborne.hpp"
+#include "mirage/sensor/array.hpp"
 #include "mirage/sensor/spinning.hpp"
 #include "ouster_presets.hpp"
 
@@ -223,6 +224,37 @@ SensorModel als_waveform() {
     return m;
 }
 
+// An airborne Geiger-mode flash array, ALIRT-like (docs/photon-counting.md §3 gives each value's
+// source): a 32 × 32 array on a 15° sinusoidal whisk broom at 780 nm, gated for ~1 200 m.
+SensorModel gmapd_32x32() {
+    AirborneConfig c = als_config(AirborneKind::Sine, 20, 10, 15);
+    SensorModel m = airborne_model("gmapd-32x32", c);
+    m.beam.wavelength_m = 780e-9;
+    m.beam.pulse_energy_j = 5e-6;
+    m.beam.pulse_width_s = 1e-9;
+    m.beam.divergence_rad = 2.5e-3;  // the flash over the array's 2 mrad field
+    m.beam.profile = BeamProfile::Gaussian;
+    m.beam.sub_rays = 1;
+    m.receiver.aperture_diameter_m = 0.1;
+    m.receiver.detector_bandwidth_m = 1e-9;
+    m.receiver.min_range_m = 1100;
+    m.receiver.max_range_m = 1400;
+    m.receiver.quantum_efficiency = 0.3;  // the PDE
+    m.noise = {};                         // the detector's timing is its own
+    m.detector = DetectorKind::Geiger;
+    m.geiger.bin_ns = 0.25;
+    m.geiger.dark_count_rate_hz = 5e3;
+    m.geiger.dead_time_ns = 2000;  // ≥ the gate: framed, one event per pixel and gate
+    m.geiger.jitter_ns = 0.24;
+    m.geiger.crosstalk_probability = 0.02;
+    m.array.columns = m.array.rows = 32;
+    m.array.pitch_m = 50e-6;
+    m.array.focal_length_m = 0.8;
+    m.array.fill_factor = 0.7;
+    make_array(m, "preset 'gmapd-32x32'");
+    return m;
+}
+
 }  // namespace
 
 double detector_area_for_ifov(double ifov_rad, double aperture_diameter_m, double f_number) {
@@ -254,8 +286,8 @@ double lambertian_electrons(const BeamParams& beam, const ReceiverParams& rx, do
 std::vector<std::string> preset_names() {
     std::vector<std::string> names = {"vlp16", "vlp16-hires", "vlp32c", "hdl32e", "hdl64e-s3"};
     for (auto& n : detail::ouster_preset_names()) names.push_back(std::move(n));
-    for (const char* n :
-         {"als-mirror", "als-mirror-sine", "als-polygon", "als-palmer", "als-waveform"})
+    for (const char* n : {"als-mirror", "als-mirror-sine", "als-polygon", "als-palmer",
+                          "als-waveform", "gmapd-32x32"})
         names.emplace_back(n);
     return names;
 }
@@ -292,6 +324,7 @@ SensorModel preset(const std::string& name) {
     if (name == "als-palmer")
         return airborne_model(name, als_config(AirborneKind::Palmer, 1000, 50, 40));
     if (name == "als-waveform") return als_waveform();
+    if (name == "gmapd-32x32") return gmapd_32x32();
     std::string known;
     for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
     throw ConfigError("sensor: unknown preset '" + name + "' (known: " + known + ")");

@@ -404,20 +404,18 @@ void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
         r.fail("detector.threshold_counts", "leaves no room below full scale " + num(full));
 }
 
-// `array:` (docs/photon-counting.md §3): a focal-plane array behind the laser; the receiver's
-// focal length and pixel area follow from it, so they may not be given too.
+// `array:` (docs/photon-counting.md §3): a focal-plane array behind the laser (columns and rows
+// required unless the base preset has an array).
 void read_array(const Reader& r, const YAML::Node& root, SensorModel& m) {
     const YAML::Node& n = root["array"];
     r.only_keys(n, "array",
                 {"columns", "rows", "pitch_um", "focal_length_mm", "fill_factor", "illumination"});
-    for (const char* key : {"f_number", "detector_area_mm2"})
-        if (root["receiver"] && root["receiver"][key])
-            r.fail(join_path("receiver", key), "set by the array (pitch_um, focal_length_mm)");
     ArrayParams& a = m.array;
     for (const char* key : {"columns", "rows"})
-        if (!n[key]) r.fail(join_path("array", key), "required");
-    a.columns = static_cast<std::uint32_t>(r.integer(n["columns"], "array.columns", 1, 4096));
-    a.rows = static_cast<std::uint32_t>(r.integer(n["rows"], "array.rows", 1, 4096));
+        if (!n[key] && !a.on()) r.fail(join_path("array", key), "required");
+    if (n["columns"])
+        a.columns = static_cast<std::uint32_t>(r.integer(n["columns"], "array.columns", 1, 4096));
+    if (n["rows"]) a.rows = static_cast<std::uint32_t>(r.integer(n["rows"], "array.rows", 1, 4096));
     if (n["pitch_um"]) a.pitch_m = 1e-6 * r.number(n["pitch_um"], "array.pitch_um", 0, 1e4, true);
     if (n["focal_length_mm"])
         a.focal_length_m =
@@ -433,6 +431,16 @@ void read_array(const Reader& r, const YAML::Node& root, SensorModel& m) {
         else
             r.fail("array.illumination", "'" + v + "' is not flash or beamlets");
     }
+}
+
+// The array (the file's or the base preset's) made last, over the beam, receiver and scan the
+// file set; the receiver's focal length and pixel area follow from it, so they may not be given.
+void finish_array(const Reader& r, const YAML::Node& root, SensorModel& m) {
+    if (!root["array"] && !m.array.on()) return;
+    for (const char* key : {"f_number", "detector_area_mm2"})
+        if (root["receiver"] && root["receiver"][key])
+            r.fail(join_path("receiver", key), "set by the array (pitch_um, focal_length_mm)");
+    if (root["array"]) read_array(r, root, m);
     make_array(m, "sensor '" + r.path() + "'");
 }
 
@@ -564,6 +572,7 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
             r.fail("base", "unknown preset '" + base_name + "' (known: " + list + ")");
         }
         m = preset(base_name);
+        unmake_array(m);  // an array preset: the file's keys apply to the laser, then it is made
     } else if (!root["spinning"] && !root["airborne"]) {
         r.fail("", "needs 'base: <preset>' or a 'spinning' or 'airborne' section");
     } else if (root["spinning"] && root["airborne"]) {
@@ -576,6 +585,8 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (root["receiver"]) read_receiver(r, root["receiver"], m.receiver);
     if (root["noise"]) read_noise(r, root["noise"], m.noise);
     if (root["detector"]) read_detector(r, root["detector"], m);
+    if (root["noise"] && m.detector == DetectorKind::Geiger)
+        r.fail("noise", "a Geiger-mode detector times its events itself (detector.jitter_ns)");
     // A range gate shorter than the pulse could hold no echo (docs/time-resolved.md §9).
     const double gate_ns = 2e9 * (m.receiver.max_range_m - m.receiver.min_range_m) / 299'792'458.0;
     if (gate_ns < m.beam.pulse_width_s * 1e9)
@@ -609,7 +620,7 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     if (root["point_source_id"])
         m.point_source_id = static_cast<std::uint16_t>(
             r.integer(root["point_source_id"], "point_source_id", 0, 65535));
-    if (root["array"]) read_array(r, root, m);
+    finish_array(r, root, m);
     if (m.geiger.crosstalk_probability > 0.0 && !m.array.on())
         r.fail("detector.crosstalk_probability", "crosstalk needs neighbours: an array");
     return m;

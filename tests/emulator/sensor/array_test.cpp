@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "mirage/core/error.hpp"
+#include "mirage/sensor/presets.hpp"
 #include "mirage/sensor/sensor.hpp"
 
 namespace mirage::sensor {
@@ -148,6 +149,40 @@ TEST(Array, geiger_detector_keys) {
     EXPECT_EQ(m.geiger.afterpulse_delay_ns, 800);
     EXPECT_EQ(m.geiger.max_events, 4);
     EXPECT_NE(describe(m).find("detector: Geiger-mode, PDE 0.300"), std::string::npos);
+}
+
+// The ALIRT-like preset, and a file based on it: its keys apply to the laser (the flash's
+// divergence), the array is made again over them; keys the array sets are refused.
+TEST(Array, gmapd_preset_and_files_based_on_it) {
+    const auto p = preset("gmapd-32x32");
+    ASSERT_TRUE(p.array.on());
+    EXPECT_EQ(p.array.pixels(), 1024u);
+    EXPECT_EQ(p.detector, DetectorKind::Geiger);
+    EXPECT_DOUBLE_EQ(p.scan->pulse_rate_hz(), 20e3 * 1024);
+    EXPECT_DOUBLE_EQ(p.array.laser_divergence_rad, 2.5e-3);
+    // Photon-starved: the centre pixel over a 10 % surface at the gate's end expects 0.3–1
+    // photo-electron (its share of the pulse and its fill factor of the whole-beam link).
+    BeamParams laser = p.beam;
+    const double centre = double(p.array.share[16 * 32 + 16]) * p.array.fill_factor *
+                          lambertian_electrons(laser, p.receiver, 0.1, 1400.0);
+    std::printf("gmapd-32x32: centre pixel, 10 %% at 1400 m: %.3f photo-electrons\n", centre);
+    EXPECT_GT(centre, 0.3);
+    EXPECT_LT(centre, 1.0);
+    const auto wide = load_sensor_yaml_text("base: gmapd-32x32\nbeam: {divergence_mrad: 4}\n", "w");
+    EXPECT_DOUBLE_EQ(wide.array.laser_divergence_rad, 4e-3);
+    EXPECT_DOUBLE_EQ(wide.beam.divergence_rad, p.beam.divergence_rad);       // the pixel's cone
+    EXPECT_LT(wide.array.share[16 * 32 + 16], p.array.share[16 * 32 + 16]);  // spread wider
+    EXPECT_EQ(dynamic_cast<const ArrayScan&>(*wide.scan).laser().kind(),
+              dynamic_cast<const ArrayScan&>(*p.scan).laser().kind());
+    const auto half = load_sensor_yaml_text("base: gmapd-32x32\narray: {columns: 16}\n", "h");
+    EXPECT_EQ(half.array.pixels(), 16u * 32u);
+    EXPECT_DOUBLE_EQ(half.scan->pulse_rate_hz(), 20e3 * 512);
+    const auto same = load_sensor_yaml_text("base: gmapd-32x32\n", "s");
+    EXPECT_EQ(same.array.share, p.array.share);
+    EXPECT_DOUBLE_EQ(same.receiver.f_number, p.receiver.f_number);
+    for (const std::string& bad : {std::string("base: gmapd-32x32\nreceiver: {f_number: 2}\n"),
+                                   std::string("base: gmapd-32x32\nnoise: {range_sigma_m: 0.1}\n")})
+        EXPECT_THROW(load_sensor_yaml_text(bad, "bad.yaml"), ConfigError) << bad;
 }
 
 }  // namespace

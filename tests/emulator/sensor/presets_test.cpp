@@ -16,8 +16,8 @@ namespace {
 
 TEST(Presets, every_preset_constructs_with_unit_directions) {
     const auto names = preset_names();
-    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 5 airborne.
-    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 5u);
+    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 5 airborne, 1 array.
+    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 5u + 1u);
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
     for (const auto& name : names) {
         const SensorModel m = preset(name);
@@ -29,8 +29,10 @@ TEST(Presets, every_preset_constructs_with_unit_directions) {
         // One sub-ray but for the full-waveform preset, whose footprint spreads its echoes.
         EXPECT_EQ(m.beam.sub_rays, name == "als-waveform" ? 19 : 1) << name;
         EXPECT_EQ(m.detector == DetectorKind::Linear, name == "als-waveform") << name;
+        EXPECT_EQ(m.detector == DetectorKind::Geiger, name == "gmapd-32x32") << name;
         EXPECT_LT(m.receiver.min_range_m, m.receiver.max_range_m) << name;
-        EXPECT_GT(m.noise.range_sigma_m, 0.0) << name;
+        // A Geiger-mode detector times its events itself (no range noise).
+        EXPECT_EQ(m.noise.range_sigma_m > 0.0, m.detector != DetectorKind::Geiger) << name;
         std::vector<PulseSpec> p(m.scan->group_size());
         m.scan->pulses(0, p.size(), p.data());
         for (const auto& s : p) EXPECT_NEAR(s.dir.norm(), 1.0, 1e-6) << name;
@@ -59,6 +61,7 @@ TEST(Presets, realistic_optics_per_family) {
 TEST(Presets, a_10_percent_target_at_max_range_gives_a_few_hundred_electrons) {
     for (const auto& name : preset_names()) {
         const SensorModel m = preset(name);
+        if (m.array.on()) continue;  // photon-starved by design (array_test.cpp)
         const double n = lambertian_electrons(m.beam, m.receiver, 0.1, m.receiver.max_range_m);
         std::printf("  %-16s %6.2f uJ  %6.0f m  %5.0f e-\n", name.c_str(),
                     m.beam.pulse_energy_j * 1e6, m.receiver.max_range_m, n);

@@ -66,6 +66,8 @@ class CoincidenceGrid {
     };
     void finish_column(const Column& c, std::int64_t key, std::vector<CoincidencePoint>& out,
                        double& noise) const;
+    CoincidencePoint bin_point(const Column& c, std::uint32_t h, std::uint32_t armed,
+                               std::span<const std::uint32_t> events) const;
     std::int32_t bin_of(double z) const;
 
     CoincidenceParams p_;

@@ -29,6 +29,7 @@ class ArrayScan final : public ScanPattern {
     // A whole laser pulse's pixels: chunks and trace batches never split a frame.
     std::uint32_t group_size() const override { return pixels_; }
     const ScanPattern& laser() const { return *laser_; }
+    const std::shared_ptr<const ScanPattern>& laser_pattern() const { return laser_; }
 
   private:
     std::shared_ptr<const ScanPattern> laser_;
@@ -43,6 +44,11 @@ class ArrayScan final : public ScanPattern {
 // receiver's focal length (f-number) and pixel area (pitch² × fill factor), and wraps the scan in
 // an ArrayScan. `source` labels errors (ConfigError). Call once, after beam and receiver are set.
 void make_array(SensorModel& m, const std::string& source);
+
+// Undoes make_array's changes to the beam and the scan (the laser's again), keeping the array's
+// geometry, so a sensor file based on an array preset sets the laser's keys; nothing for a sensor
+// without an array.
+void unmake_array(SensorModel& m);
 
 // The laser's share of energy that falls on each pixel (sum ≤ 1): flash with a Gaussian laser of
 // 1/e² full divergence θ, the Gaussian integrated over the pixel's square in the tangent plane,
