@@ -325,8 +325,12 @@ class PulseShader {
         double shape_lo = 0, shape_hi = 0, inv_cell = 1;  // the pulse's support about its centroid
         std::vector<double> cdf;                          // its cumulative shape over the support
         double cumulative(double t_ns) const;
+        // tabulate_bin_weights(): the pulse's share per bin, `span` bins per offset row.
+        std::size_t span = 0;
+        std::vector<double> weights;
     };
     void init_geiger();
+    void tabulate_bin_weights(GeigerGate& g) const;
     void geiger_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                         const std::vector<double>& weighted_k, ShadeScratch& scratch,
                         ShadedPoints& out) const;
