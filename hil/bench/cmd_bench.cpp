@@ -40,16 +40,6 @@ double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Each pixel-pulse's first event, kept for the coincidence processor.
-class FirstEventSink : public render::PointSink {
-  public:
-    void write(std::span<const core::PointRecord> points) override {
-        for (const auto& p : points)
-            if (p.return_number == 1) events.push_back(p);
-    }
-    std::vector<core::PointRecord> events;
-};
-
 render::RenderStats run_pipeline_to_null(const Job& job) {
     las::LasWriter writer("/dev/null", job.scene->georef);
     las::LasSink sink(writer);
@@ -267,7 +257,7 @@ PhotonRow photon_row(const BenchBase& base, const Job& shared, const Opts& o) {
         row.ceiling_pulses_per_s =
             std::max(row.ceiling_pulses_per_s, trace_ceiling(job.setup()).pulses_per_s());
     }
-    FirstEventSink events;
+    render::FirstEventSink events;
     render::render(job.setup(), events);
     const auto t0 = Clock::now();
     render::CoincidenceStats st;

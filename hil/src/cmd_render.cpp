@@ -29,23 +29,6 @@ struct Opts {
     render::CoincidenceParams cp;
 };
 
-// The LAS sink, and each pulse's first event kept for the coincidence processor.
-class FirstEvents : public render::PointSink {
-  public:
-    explicit FirstEvents(render::PointSink& out) : out_(out) {}
-    void write(std::span<const core::PointRecord> points) override {
-        out_.write(points);
-        for (const auto& p : points)
-            if (p.return_number == 1) events.push_back(p);
-    }
-    void pulses_done(std::uint64_t next) override { out_.pulses_done(next); }
-    void finish() override { out_.finish(); }
-    std::vector<core::PointRecord> events;
-
-  private:
-    render::PointSink& out_;
-};
-
 // Coincidence-processed points as LAS records: GPS time of the run's start, the expected events
 // per gate in n_laser and ×1000 as intensity (docs/photon-counting.md §5).
 void write_coincidence(const Opts& o, const Job& job, const las::LasWriterOptions& lo,
@@ -122,7 +105,7 @@ void register_render(CLI::App& app) {
         las::install_signal_finalizer();
         las::LasWriter writer(opts->out, job.scene->georef, lo);
         las::LasSink las_sink(writer);
-        FirstEvents tee(las_sink);
+        render::FirstEventSink tee(&las_sink);
         render::PointSink& sink =
             opts->coincidence.empty() ? static_cast<render::PointSink&>(las_sink) : tee;
         ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));

@@ -73,7 +73,7 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats) c
     double noise_sum = 0;
     for (const auto& [key, c] : columns_) {
         double noise = 0;
-        finish_column(c, key, out, noise);
+        finish_column(c, out, noise);
         noise_sum += noise;
     }
     if (stats) {
@@ -89,8 +89,8 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats) c
 // Per event bin b (scanning down): gates covering b, less those that fired above it, are armed;
 // n̂_b = −ln(1 − h_b/A_b). The noise per gate-bin is the column's events over its armed
 // gate-bins, taken again without the bins that stand out (a surface's own events).
-void CoincidenceGrid::finish_column(const Column& c, std::int64_t,
-                                    std::vector<CoincidencePoint>& out, double& noise) const {
+void CoincidenceGrid::finish_column(const Column& c, std::vector<CoincidencePoint>& out,
+                                    double& noise) const {
     if (c.events.empty()) return;
     std::vector<std::int32_t> top = c.top, bottom = c.bottom, fired = c.fired;
     std::sort(top.begin(), top.end());
@@ -160,6 +160,20 @@ CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::uint32_t h, st
         static_cast<std::uint8_t>(std::max_element(by_class, by_class + 256) - by_class);
     pt.signal_share = double(signal) / n;
     return pt;
+}
+
+void FirstEventSink::write(std::span<const core::PointRecord> points) {
+    if (next_) next_->write(points);
+    for (const auto& p : points)
+        if (p.return_number == 1) events.push_back(p);
+}
+
+void FirstEventSink::pulses_done(std::uint64_t next_pulse) {
+    if (next_) next_->pulses_done(next_pulse);
+}
+
+void FirstEventSink::finish() {
+    if (next_) next_->finish();
 }
 
 std::vector<CoincidencePoint> coincidence(const Setup& setup,

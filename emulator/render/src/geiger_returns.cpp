@@ -24,7 +24,7 @@ constexpr std::size_t kBinOffsets = 256;
 
 }  // namespace
 
-// The gate (receiver's ranges), the pixel's effects and the pulse's cumulative shape.
+// The gate (receiver's ranges), the pixel's effects and the pulse's share per bin.
 void PulseShader::init_geiger() {
     if (sensor_.detector != sensor::DetectorKind::Geiger) return;
     const auto& p = sensor_.geiger;
@@ -49,44 +49,42 @@ void PulseShader::init_geiger() {
                            : sensor::PulseShape::tabulated(b.pulse_t_ns, b.pulse_power, source);
     // A Gaussian's tails beyond ±4.5σ hold 7e-6 of it: far below any bin's Poisson noise.
     g.shape_lo = b.pulse_t_ns.empty() ? -4.5 * shape.sigma_ns() : shape.begin_ns();
-    g.shape_hi = b.pulse_t_ns.empty() ? 4.5 * shape.sigma_ns() : shape.end_ns();
-    // The cumulative shape by midpoint sums, 8 per cell, normalised to end at 1.
-    const double cell = (g.shape_hi - g.shape_lo) / kCdfCells;
-    g.cdf.assign(kCdfCells + 1, 0.0);
-    for (std::uint32_t c = 0; c < kCdfCells; ++c) {
-        double s = 0;
-        for (int m = 0; m < 8; ++m) s += shape(g.shape_lo + (c + (m + 0.5) / 8.0) * cell);
-        g.cdf[c + 1] = g.cdf[c] + s * cell / 8.0;
-    }
-    for (double& v : g.cdf) v /= g.cdf.back();
-    g.inv_cell = 1.0 / cell;
-    tabulate_bin_weights(g);
+    const double hi = b.pulse_t_ns.empty() ? 4.5 * shape.sigma_ns() : shape.end_ns();
+    tabulate_bin_weights(shape, hi, g);
     geiger_ = std::move(g);
-}
-
-// ∫ s over (−∞, t] from the table, linear between its points.
-double PulseShader::GeigerGate::cumulative(double t_ns) const {
-    const double x = (t_ns - shape_lo) * inv_cell;
-    if (!(x > 0.0)) return 0.0;
-    if (x >= double(kCdfCells)) return 1.0;
-    const auto c = static_cast<std::size_t>(x);
-    return cdf[c] + (x - double(c)) * (cdf[c + 1] - cdf[c]);
 }
 
 // The pulse's share in each bin it reaches, per offset of its support's start inside its first
 // bin (kBinOffsets steps: an arrival's time is taken to 1/kBinOffsets of a bin, 1 ps at 0.25 ns),
-// so an arrival costs one table row instead of a cumulative lookup per bin.
-void PulseShader::tabulate_bin_weights(GeigerGate& g) const {
-    g.span = static_cast<std::size_t>(std::ceil((g.shape_hi - g.shape_lo) / g.bin_ns)) + 1;
+// so an arrival costs one table row. From the cumulative shape by midpoint sums (8 per cell),
+// normalised to end at 1, linear between its points.
+void PulseShader::tabulate_bin_weights(const sensor::PulseShape& shape, double hi,
+                                       GeigerGate& g) const {
+    const double lo = g.shape_lo, cell = (hi - lo) / kCdfCells;
+    std::vector<double> cdf(kCdfCells + 1, 0.0);
+    for (std::uint32_t c = 0; c < kCdfCells; ++c) {
+        double s = 0;
+        for (int m = 0; m < 8; ++m) s += shape(lo + (c + (m + 0.5) / 8.0) * cell);
+        cdf[c + 1] = cdf[c] + s * cell / 8.0;
+    }
+    for (double& v : cdf) v /= cdf.back();
+    const double inv_cell = 1.0 / cell;
+    const auto cumulative = [&](double t_ns) {  // ∫ s over (−∞, t]
+        const double x = (t_ns - lo) * inv_cell;
+        if (!(x > 0.0)) return 0.0;
+        if (x >= double(kCdfCells)) return 1.0;
+        const auto c = static_cast<std::size_t>(x);
+        return cdf[c] + (x - double(c)) * (cdf[c + 1] - cdf[c]);
+    };
+    g.span = static_cast<std::size_t>(std::ceil((hi - lo) / g.bin_ns)) + 1;
     g.weights.assign((kBinOffsets + 1) * g.span, 0.0);
     for (std::size_t f = 0; f <= kBinOffsets; ++f) {
         // The support starts f/kBinOffsets of a bin into bin 0: bin j spans (j − φ)·Δ to
         // (j + 1 − φ)·Δ after it.
         const double phi = double(f) / double(kBinOffsets);
         for (std::size_t j = 0; j < g.span; ++j)
-            g.weights[f * g.span + j] =
-                g.cumulative(g.shape_lo + (double(j) + 1.0 - phi) * g.bin_ns) -
-                g.cumulative(g.shape_lo + (double(j) - phi) * g.bin_ns);
+            g.weights[f * g.span + j] = cumulative(lo + (double(j) + 1.0 - phi) * g.bin_ns) -
+                                        cumulative(lo + (double(j) - phi) * g.bin_ns);
     }
 }
 

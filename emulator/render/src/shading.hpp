@@ -19,6 +19,7 @@
 #include "mirage/physics/waveform.hpp"
 #include "mirage/render/render_stats.hpp"
 #include "mirage/render/setup.hpp"
+#include "mirage/sensor/pulse_shape.hpp"
 #include "ray_batch.hpp"
 
 namespace mirage::render {
@@ -322,15 +323,13 @@ class PulseShader {
         std::size_t bins = 0;
         physics::GeigerPixel pixel;
         double dark_per_ns = 0;
-        double shape_lo = 0, shape_hi = 0, inv_cell = 1;  // the pulse's support about its centroid
-        std::vector<double> cdf;                          // its cumulative shape over the support
-        double cumulative(double t_ns) const;
+        double shape_lo = 0;  // where the pulse's support starts, ns from its centroid
         // tabulate_bin_weights(): the pulse's share per bin, `span` bins per offset row.
         std::size_t span = 0;
         std::vector<double> weights;
     };
     void init_geiger();
-    void tabulate_bin_weights(GeigerGate& g) const;
+    void tabulate_bin_weights(const sensor::PulseShape& shape, double hi, GeigerGate& g) const;
     void geiger_returns(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                         const std::vector<double>& weighted_k, ShadeScratch& scratch,
                         ShadedPoints& out) const;

@@ -273,8 +273,6 @@ void read_noise(const Reader& r, const YAML::Node& n, NoiseParams& x) {
 void read_echo_timing(const Reader& r, const YAML::Node& n, SensorModel& m) {
     LinearDetectorParams& p = m.linear;
     if (n["timing"]) {
-        if (m.detector != DetectorKind::Linear)
-            r.fail("detector.timing", "only with detector.type: linear");
         const std::string t = r.text(n["timing"], "detector.timing");
         if (t == "peak")
             p.timing = EchoTiming::Peak;
@@ -297,16 +295,13 @@ void read_echo_timing(const Reader& r, const YAML::Node& n, SensorModel& m) {
 // jitter, afterpulses; `pde` sets the receiver's quantum efficiency (it is the same number).
 void read_geiger(const Reader& r, const YAML::Node& n, SensorModel& m) {
     GeigerDetectorParams& p = m.geiger;
-    const auto get = [&](const char* key, double lo, double hi, bool lo_open, double& out) {
-        r.maybe(n, "detector", key, lo, hi, lo_open, out);
-    };
-    get("bin_ns", 0, 1e3, true, p.bin_ns);
-    get("dead_time_ns", 0, 1e9, false, p.dead_time_ns);
-    get("jitter_ns", 0, 1e3, false, p.jitter_ns);
-    get("afterpulse_probability", 0, 1, false, p.afterpulse_probability);
-    get("afterpulse_delay_ns", 0, 1e9, true, p.afterpulse_delay_ns);
-    get("crosstalk_probability", 0, 1, false, p.crosstalk_probability);
-    get("pde", 0, 1, true, m.receiver.quantum_efficiency);
+    r.maybe(n, "detector", "bin_ns", 0, 1e3, true, p.bin_ns);
+    r.maybe(n, "detector", "dead_time_ns", 0, 1e9, false, p.dead_time_ns);
+    r.maybe(n, "detector", "jitter_ns", 0, 1e3, false, p.jitter_ns);
+    r.maybe(n, "detector", "afterpulse_probability", 0, 1, false, p.afterpulse_probability);
+    r.maybe(n, "detector", "afterpulse_delay_ns", 0, 1e9, true, p.afterpulse_delay_ns);
+    r.maybe(n, "detector", "crosstalk_probability", 0, 1, false, p.crosstalk_probability);
+    r.maybe(n, "detector", "pde", 0, 1, true, m.receiver.quantum_efficiency);
     if (n["dark_count_rate_khz"])
         p.dark_count_rate_hz =
             1e3 * r.number(n["dark_count_rate_khz"], "detector.dark_count_rate_khz", 0, 1e6);
@@ -379,21 +374,16 @@ void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
     check_detector_keys(r, n, m.detector);
     if (m.detector == DetectorKind::Geiger) read_geiger(r, n, m);
     LinearDetectorParams& p = m.linear;  // (check_detector_keys refused these otherwise)
-    const auto get = [&](const char* key, double lo, double hi, bool lo_open, double& out) {
-        r.maybe(n, "detector", key, lo, hi, lo_open, out);
-    };
-    get("sample_rate_gsps", 0, 100, true, p.sample_rate_gsps);
-    get("offset_counts", 0, 4e9, false, p.offset_counts);
-    get("gain_counts_per_pe", 0, 1e6, true, p.gain_counts_per_pe);
-    get("apd_gain", 1, 1e4, false, p.apd_gain);
-    get("apd_k", 0, 1, false, p.apd_k);
-    get("thermal_noise_pe", 0, 1e6, false, p.thermal_noise_pe);
-    get("dark_current_na", 0, 1e6, false, p.dark_current_na);
-    get("threshold_counts", 0, 4e9, false, p.threshold_counts);
+    r.maybe(n, "detector", "sample_rate_gsps", 0, 100, true, p.sample_rate_gsps);
+    r.maybe(n, "detector", "offset_counts", 0, 4e9, false, p.offset_counts);
+    r.maybe(n, "detector", "gain_counts_per_pe", 0, 1e6, true, p.gain_counts_per_pe);
+    r.maybe(n, "detector", "apd_gain", 1, 1e4, false, p.apd_gain);
+    r.maybe(n, "detector", "apd_k", 0, 1, false, p.apd_k);
+    r.maybe(n, "detector", "thermal_noise_pe", 0, 1e6, false, p.thermal_noise_pe);
+    r.maybe(n, "detector", "dark_current_na", 0, 1e6, false, p.dark_current_na);
+    r.maybe(n, "detector", "threshold_counts", 0, 4e9, false, p.threshold_counts);
     read_echo_timing(r, n, m);
     if (n["bits"]) {
-        if (m.detector != DetectorKind::Linear)
-            r.fail("detector.bits", "only with detector.type: linear");
         p.bits = static_cast<int>(r.integer(n["bits"], "detector.bits", 1, 32));
     }
     const double full = std::ldexp(1.0, p.bits) - 1.0;

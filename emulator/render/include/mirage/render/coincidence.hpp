@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mirage/core/point.hpp"
+#include "mirage/render/point_sink.hpp"
 #include "mirage/render/setup.hpp"
 
 namespace mirage::render {
@@ -64,8 +65,7 @@ class CoincidenceGrid {
         std::vector<GateEvent> events;
         std::uint64_t armed_bins = 0;  // Σ over gates of the bins each was armed for
     };
-    void finish_column(const Column& c, std::int64_t key, std::vector<CoincidencePoint>& out,
-                       double& noise) const;
+    void finish_column(const Column& c, std::vector<CoincidencePoint>& out, double& noise) const;
     CoincidencePoint bin_point(const Column& c, std::uint32_t h, std::uint32_t armed,
                                std::span<const std::uint32_t> events) const;
     std::int32_t bin_of(double z) const;
@@ -73,6 +73,20 @@ class CoincidenceGrid {
     CoincidenceParams p_;
     std::unordered_map<std::int64_t, Column> columns_;
     std::uint64_t gates_ = 0, events_ = 0;
+};
+
+// Keeps each pulse's first event (return 1) for coincidence(), passing every point on to `next`
+// when there is one (a LAS sink, say).
+class FirstEventSink : public PointSink {
+  public:
+    explicit FirstEventSink(PointSink* next = nullptr) : next_(next) {}
+    void write(std::span<const core::PointRecord> points) override;
+    void pulses_done(std::uint64_t next_pulse) override;
+    void finish() override;
+    std::vector<core::PointRecord> events;
+
+  private:
+    PointSink* next_;
 };
 
 // A rendered Geiger-mode collection's events (`events`, in pulse order as render() writes them)
