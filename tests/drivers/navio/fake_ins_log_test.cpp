@@ -32,6 +32,18 @@ namespace {
 constexpr std::int64_t kTolNs = 5'000'000;
 constexpr std::int64_t kLeadNs = 100'000'000;  // replay starts 100 ms after the call
 
+// The machine's floor over the same window: a thread that sleeps to absolute 1 ms deadlines and
+// records how late each wake-up is (what the replayer and the reader also pay). Sorted lateness.
+std::vector<std::int64_t> wake_lateness(std::int64_t from, std::int64_t until) {
+    std::vector<std::int64_t> late;
+    for (std::int64_t t = from; t < until; t += 1'000'000) {
+        hostclock::sleep_until_monotonic(t);
+        late.push_back(hostclock::monotonic_ns() - t);
+    }
+    std::sort(late.begin(), late.end());
+    return late;
+}
+
 std::vector<std::string> sentences_of(const std::string& text) {
     std::vector<std::string> out;
     std::size_t start = 0;
@@ -67,6 +79,8 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     auto sender = std::async(std::launch::async, [&] {
         return navio::replay_nav_log(log, pty.master.get(), nullptr, 1.0, stop, start);
     });
+    auto wake_floor =
+        std::async(std::launch::async, [&] { return wake_lateness(start, start + 4'000'000'000); });
     // Read until every sentence is back (or a deadline well past the log's 4 s).
     std::vector<std::pair<std::string, std::int64_t>> got;
     std::string pending, all;
@@ -100,24 +114,29 @@ TEST(NavLogReplay, rst39_onto_a_pty_reads_back_the_same_sentences_on_the_log_sch
     }
     std::sort(errs.begin(), errs.end());
     std::sort(abs_errs.begin(), abs_errs.end());
-    const std::int64_t p99 = errs[errs.size() * 99 / 100];
+    const std::int64_t p90 = errs[errs.size() * 9 / 10], p99 = errs[errs.size() * 99 / 100];
     const std::int64_t abs_p50 = abs_errs[abs_errs.size() / 2];
+    const std::vector<std::int64_t> wake = wake_floor.get();
     std::printf(
-        "rst39 replay: %llu messages, %.3f s of log, inter-message error p99 %.3f ms, "
-        "worst %.3f ms, absolute error p50 %.3f ms, worst %.3f ms, worst send lateness "
-        "%.3f ms\n",
+        "rst39 replay: %llu messages, %.3f s of log, inter-message error p90 %.3f ms, p99 %.3f "
+        "ms, worst %.3f ms, absolute error p50 %.3f ms, worst %.3f ms, worst send lateness "
+        "%.3f ms | floor, 1 ms sleeps over the same 4 s: wake-up lateness p50 %.3f ms, "
+        "p99 %.3f ms, worst %.3f ms\n",
         static_cast<unsigned long long>(tot.messages), double(tot.span_ns) * 1e-9,
-        double(p99) * 1e-6, double(errs.back()) * 1e-6, double(abs_p50) * 1e-6,
-        double(abs_errs.back()) * 1e-6, double(tot.worst_late_ns) * 1e-6);
+        double(p90) * 1e-6, double(p99) * 1e-6, double(errs.back()) * 1e-6, double(abs_p50) * 1e-6,
+        double(abs_errs.back()) * 1e-6, double(tot.worst_late_ns) * 1e-6,
+        double(wake[wake.size() / 2]) * 1e-6, double(wake[wake.size() * 99 / 100]) * 1e-6,
+        double(wake.back()) * 1e-6);
     EXPECT_EQ(tot.span_ns, 4'000'000'000);
     EXPECT_EQ(tot.write_failures, 0u);
     // What the reader sees adds the kernel's pty delivery and the reader's wake-up to the
     // replay's own lateness. Quantiles, not the worst case: a stall of the whole machine (virtual
     // machines are held off for tens of ms at times) delays the messages due during it and fails
-    // no test. p99 of the intervals: paced, not
-    // dumped; median absolute error: not stretched (sleeping each interval instead adds every
-    // wake-up's overshoot to all later messages: p50 19 ms when tried).
-    EXPECT_LT(p99, kTolNs);
+    // no test. One late message makes two interval errors, so of 151 intervals p99 is one stall:
+    // p90 of the intervals (paced, not dumped) as in the candump test; median absolute error: not
+    // stretched (sleeping each interval instead adds every wake-up's overshoot to all later
+    // messages: p50 19 ms when tried).
+    EXPECT_LT(p90, kTolNs);
     EXPECT_LT(abs_p50, 1'000'000);
     // mirage::nmea decodes the read-back stream exactly as it decoded the file.
     nmea::NmeaDecoder d;
