@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "coincidence_output.hpp"
 #include "commands.hpp"
 #include "job.hpp"
 #include "las_options.hpp"
@@ -29,27 +30,12 @@ struct Opts {
     render::CoincidenceParams cp;
 };
 
-// Coincidence-processed points as LAS records: GPS time of the run's start, the expected events
-// per gate in n_laser and ×1000 as intensity (docs/photon-counting.md §5).
+// The events through the coincidence processor into o.coincidence.
 void write_coincidence(const Opts& o, const Job& job, const las::LasWriterOptions& lo,
                        std::span<const core::PointRecord> events) {
     render::CoincidenceStats st;
     const auto pts = render::coincidence(job.setup(), events, o.cp, &st);
-    las::LasWriterOptions plain = lo;
-    plain.event_fields = false;
-    las::LasWriter w(o.coincidence, job.scene->georef, plain);
-    std::vector<core::PointRecord> recs(pts.size());
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-        auto& r = recs[k];
-        r.x = pts[k].x, r.y = pts[k].y, r.z = pts[k].z;
-        r.t = job.options.start;
-        r.n_laser = pts[k].expected;
-        r.intensity = static_cast<std::uint16_t>(std::min(65535.0, 1000.0 * pts[k].expected));
-        r.classification = pts[k].classification;
-        r.point_source_id = job.sensor.point_source_id;
-    }
-    w.write(recs);
-    w.close();
+    write_coincidence_las(o.coincidence, job, lo, coincidence_records(pts, job));
     std::printf(
         "  coincidence: %llu gates over %llu cells of %.2f m (%.1f gates per cell), "
         "%llu first events, noise %.3g per gate and %.2f m bin -> %llu points in %s\n",
@@ -95,7 +81,15 @@ void register_render(CLI::App& app) {
                     "Coincidence: events a bin needs at least to become a point")
         ->check(CLI::Range(1u, 1000000u))
         ->capture_default_str();
-    cmd->callback([opts] {
+    cmd->add_option("--pulses-per-cell", opts->cp.gates_per_cell,
+                    "Coincidence: each cell counts only its first N gates in time, a dwell of N "
+                    "pulses (0: all)")
+        ->check(CLI::Range(0u, 100000000u))
+        ->capture_default_str();
+    cmd->callback([opts, cmd] {
+        for (const char* o : {"--cell", "--bin", "--min-events", "--pulses-per-cell"})
+            if (opts->coincidence.empty() && cmd->count(o) > 0)
+                throw mirage::ConfigError(std::string("render ") + o + ": only with --coincidence");
         Job job = load_job(opts->job);
         std::fprintf(stderr, "%s", sensor::describe(job.sensor).c_str());
         if (!opts->coincidence.empty() && job.sensor.detector != sensor::DetectorKind::Geiger)

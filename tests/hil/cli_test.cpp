@@ -29,6 +29,31 @@ TEST(Cli, render_writes_a_valid_las_with_a_summary) {
     EXPECT_NE(info.output.find("valid"), std::string::npos);
 }
 
+// `render --coincidence` (docs/photon-counting.md §5): a Geiger-mode render's events and its
+// coincidence points as valid LAS; --pulses-per-cell caps the gates each cell counts.
+TEST(Cli, render_coincidence_writes_points_and_a_dwell_caps_the_gates_per_cell) {
+    TempDir tmp;
+    const std::string base =
+        "render --scene demo --sensor gmapd-32x32 --trajectory static:0,0,1200 --duration 0.02 "
+        "--sun-elevation-deg -1 --out " +
+        tmp.file("e.las") + " --coincidence " + tmp.file("c.las");
+    const auto gates = [](const std::string& out) {
+        const auto at = out.find("coincidence: ");
+        return at == std::string::npos ? 0.0 : std::stod(out.substr(at + 13));
+    };
+    const auto all = run_mirage(base);
+    ASSERT_EQ(all.exit_code, 0) << all.output;
+    EXPECT_EQ(gates(all.output), 409600.0) << all.output;  // 0.02 s × 20 kHz × 1024 pixels
+    const auto points = las::LasFile::read(tmp.file("c.las"));
+    EXPECT_TRUE(points.validate().empty());
+    EXPECT_GT(points.points().size(), 500u);
+    const auto dwell = run_mirage(base + " --pulses-per-cell 20");
+    ASSERT_EQ(dwell.exit_code, 0) << dwell.output;
+    EXPECT_GT(gates(dwell.output), 1000.0) << dwell.output;
+    EXPECT_LT(gates(dwell.output), 0.5 * gates(all.output)) << dwell.output;
+    EXPECT_LT(las::LasFile::read(tmp.file("c.las")).points().size(), points.points().size());
+}
+
 // `render --waveform` (docs/commands.md): format 6 becomes 9, the packets land in the EVLR, or
 // in the .wdp with --wdp, and las-info validates them and draws chosen pulses.
 TEST(Cli, render_waveform_writes_packets_that_las_info_validates_and_draws) {

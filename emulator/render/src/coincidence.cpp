@@ -29,6 +29,12 @@ double poisson_tail(double mean, std::uint32_t k) {
     return std::max(0.0, 1.0 - below);
 }
 
+// An event bin of a column's dwell: its events and the gates armed there.
+struct Bin {
+    std::int32_t b;
+    std::uint32_t h, armed;
+};
+
 std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
 
 }  // namespace
@@ -49,36 +55,43 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
         throw ConfigError("coincidence: a gate looks " + std::to_string(gate.dir.z()) +
                           " down (needs a line of sight within 60° of nadir)");
     const Eigen::Vector3d mid = gate.origin + 0.5 * (gate.r0 + gate.r1) * gate.dir;
+    if (p_.window && !p_.window->contains(mid.x(), mid.y())) return;
     const auto ix = static_cast<std::int64_t>(std::floor(mid.x() / p_.cell_m));
     const auto iy = static_cast<std::int64_t>(std::floor(mid.y() / p_.cell_m));
     Column& c = columns_[cell_key(ix, iy)];
     const std::int32_t top = bin_of(gate.origin.z() + gate.r0 * gate.dir.z());
     const std::int32_t bottom = bin_of(gate.origin.z() + gate.r1 * gate.dir.z());
+    const std::int32_t stop = first ? std::clamp(bin_of(first->z), bottom, top) : bottom;
+    if (first) {
+        c.fired.push_back(stop);
+        c.gate_of.push_back(static_cast<std::uint32_t>(c.top.size()));
+        c.events.push_back(*first);
+    }
     c.top.push_back(top);
     c.bottom.push_back(bottom);
-    gates_++;
-    if (!first) {
-        c.armed_bins += std::uint64_t(top - bottom + 1);
-        return;
-    }
-    const std::int32_t b = std::clamp(bin_of(first->z), bottom, top);
-    c.fired.push_back(b);
-    c.events.push_back(*first);
-    c.armed_bins += std::uint64_t(top - b + 1);
-    events_++;
+    c.armed.push_back(static_cast<std::uint32_t>(top - stop + 1));
 }
 
-std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats) const {
+std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
+                                                      std::uint32_t gates_per_cell) const {
+    const std::uint32_t dwell = gates_per_cell ? gates_per_cell : p_.gates_per_cell;
     std::vector<CoincidencePoint> out;
     double noise_sum = 0;
+    std::uint64_t gates = 0, events = 0;
     for (const auto& [key, c] : columns_) {
+        const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.top.size()) : c.top.size();
+        const auto m = static_cast<std::size_t>(
+            std::lower_bound(c.gate_of.begin(), c.gate_of.end(), static_cast<std::uint32_t>(g)) -
+            c.gate_of.begin());
         double noise = 0;
-        finish_column(c, out, noise);
+        finish_column({c, g, m}, out, noise);
         noise_sum += noise;
+        gates += g;
+        events += m;
     }
     if (stats) {
-        stats->gates = gates_;
-        stats->events = events_;
+        stats->gates = gates;
+        stats->events = events;
         stats->cells = columns_.size();
         stats->points = out.size();
         stats->noise_per_bin = columns_.empty() ? 0.0 : noise_sum / double(columns_.size());
@@ -86,21 +99,19 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats) c
     return out;
 }
 
-// Per event bin b (scanning down): gates covering b, less those that fired above it, are armed;
-// n̂_b = −ln(1 − h_b/A_b). The noise per gate-bin is the column's events over its armed
-// gate-bins, taken again without the bins that stand out (a surface's own events).
-void CoincidenceGrid::finish_column(const Column& c, std::vector<CoincidencePoint>& out,
-                                    double& noise) const {
-    if (c.events.empty()) return;
-    std::vector<std::int32_t> top = c.top, bottom = c.bottom, fired = c.fired;
+namespace {
+
+// The distinct event bins of the first g gates and their m events, top first: gates covering
+// b, less those that fired above it, are armed at b.
+std::vector<Bin> event_bins(std::span<const std::int32_t> top_g,
+                            std::span<const std::int32_t> bottom_g,
+                            std::span<const std::int32_t> fired_m) {
+    std::vector<std::int32_t> top(top_g.begin(), top_g.end());
+    std::vector<std::int32_t> bottom(bottom_g.begin(), bottom_g.end());
+    std::vector<std::int32_t> fired(fired_m.begin(), fired_m.end());
     std::sort(top.begin(), top.end());
     std::sort(bottom.begin(), bottom.end());
     std::sort(fired.begin(), fired.end());
-    // Distinct event bins, top first, with their counts and armed gates.
-    struct Bin {
-        std::int32_t b;
-        std::uint32_t h, armed;
-    };
     std::vector<Bin> bins;
     for (auto it = fired.rbegin(); it != fired.rend();) {
         const std::int32_t b = *it;
@@ -113,18 +124,34 @@ void CoincidenceGrid::finish_column(const Column& c, std::vector<CoincidencePoin
                         static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(covering - above, 0))});
         it += hi - lo;
     }
+    return bins;
+}
+
+}  // namespace
+
+// Per event bin b: n̂_b = −ln(1 − h_b/A_b) over its armed gates A_b. The noise per gate-bin is the
+// column's events over its armed gate-bins, taken again without the bins that stand out (a
+// surface's own events).
+void CoincidenceGrid::finish_column(const Dwell& d, std::vector<CoincidencePoint>& out,
+                                    double& noise) const {
+    if (d.m == 0) return;
+    const Column& c = d.c;
+    std::uint64_t armed_bins = 0;
+    for (std::size_t i = 0; i < d.g; ++i) armed_bins += c.armed[i];
+    const std::vector<Bin> bins =
+        event_bins({c.top.data(), d.g}, {c.bottom.data(), d.g}, {c.fired.data(), d.m});
     const auto stands_out = [&](const Bin& x, double nu) {
         return x.h >= p_.min_events && poisson_tail(nu * x.armed, x.h) < p_.false_alarm;
     };
-    noise = double(c.events.size()) / double(std::max<std::uint64_t>(1, c.armed_bins));
+    noise = double(d.m) / double(std::max<std::uint64_t>(1, armed_bins));
     for (int pass = 0; pass < 3; ++pass) {  // a few rounds settle which bins stand out
-        double h_rest = double(c.events.size()), a_rest = double(c.armed_bins);
+        double h_rest = double(d.m), a_rest = double(armed_bins);
         for (const Bin& x : bins)
             if (stands_out(x, noise)) h_rest -= x.h, a_rest -= x.armed;
         noise = a_rest > 0.0 ? std::max(0.0, h_rest) / a_rest : 0.0;
     }
-    // The column's events by bin, so each point reads its own.
-    std::vector<std::uint32_t> order(c.events.size());
+    // The dwell's events by bin, so each point reads its own.
+    std::vector<std::uint32_t> order(d.m);
     for (std::uint32_t j = 0; j < order.size(); ++j) order[j] = j;
     std::sort(order.begin(), order.end(),
               [&](std::uint32_t a, std::uint32_t b) { return c.fired[a] < c.fired[b]; });
@@ -176,10 +203,8 @@ void FirstEventSink::finish() {
     if (next_) next_->finish();
 }
 
-std::vector<CoincidencePoint> coincidence(const Setup& setup,
-                                          std::span<const core::PointRecord> events,
-                                          const CoincidenceParams& params,
-                                          CoincidenceStats* stats) {
+CoincidenceGrid coincidence_grid(const Setup& setup, std::span<const core::PointRecord> events,
+                                 const CoincidenceParams& params) {
     CoincidenceGrid grid(params);
     const auto& rx = setup.sensor.receiver;
     const RayBatchBuilder builder(setup.sensor, setup.trajectory, setup.mount, setup.options.start);
@@ -201,7 +226,14 @@ std::vector<CoincidencePoint> coincidence(const Setup& setup,
                      e ? &ge : nullptr);
         }
     }
-    return grid.finish(stats);
+    return grid;
+}
+
+std::vector<CoincidencePoint> coincidence(const Setup& setup,
+                                          std::span<const core::PointRecord> events,
+                                          const CoincidenceParams& params,
+                                          CoincidenceStats* stats) {
+    return coincidence_grid(setup, events, params).finish(stats);
 }
 
 }  // namespace mirage::render

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "mirage/core/rng.hpp"
 #include "mirage/physics/geiger.hpp"
@@ -21,14 +22,13 @@ constexpr std::size_t kBins = 400;  // and spans 100 m
 
 // `gates` nadir gates over the cell at (0.1, 0.1): bin k spans heights kTop − k·kBin down; the
 // returns (height, mean events) fall in their bins; noise per bin on top. Each gate's first event.
-std::vector<CoincidencePoint> collect(std::uint64_t gates,
-                                      std::vector<std::pair<double, double>> returns, double noise,
-                                      std::uint64_t seed, CoincidenceStats* st,
-                                      double false_alarm = 1e-6) {
+CoincidenceGrid collect_grid(std::uint64_t gates, std::vector<std::pair<double, double>> returns,
+                             double noise, std::uint64_t seed, double false_alarm = 1e-6,
+                             std::optional<CoincidenceWindow> window = {}) {
     std::vector<double> signal(kBins, 0.0);
     for (const auto& [z, n] : returns) signal[static_cast<std::size_t>((kTop - z) / kBin)] += n;
     const physics::EventRate rate(signal, noise, kBin);
-    CoincidenceGrid grid({1.0, kBin, 3, false_alarm});
+    CoincidenceGrid grid({1.0, kBin, 3, false_alarm, 0, window});
     std::vector<physics::GeigerEvent> ev;
     for (std::uint64_t g = 0; g < gates; ++g) {
         core::PulseRng rng(seed, g, 0);
@@ -45,7 +45,14 @@ std::vector<CoincidencePoint> collect(std::uint64_t gates,
                     ev[0].kind == physics::EventKind::Signal};
         grid.add(gate, &e);
     }
-    return grid.finish(st);
+    return grid;
+}
+
+std::vector<CoincidencePoint> collect(std::uint64_t gates,
+                                      std::vector<std::pair<double, double>> returns, double noise,
+                                      std::uint64_t seed, CoincidenceStats* st,
+                                      double false_alarm = 1e-6) {
+    return collect_grid(gates, std::move(returns), noise, seed, false_alarm).finish(st);
 }
 
 TEST(Coincidence, coates_recovers_the_return_and_the_noise) {
@@ -64,6 +71,34 @@ TEST(Coincidence, coates_recovers_the_return_and_the_noise) {
     EXPECT_LT(p.z, 40.25);
     EXPECT_EQ(p.classification, 2);
     EXPECT_EQ(st.gates, 20000u);
+}
+
+// A dwell of n gates per cell is the collection's first n gates there: one grid of 20000 gates
+// finished at 5000 gives exactly what a collection of 5000 gives (the same first 5000 gates).
+TEST(Coincidence, a_dwell_counts_the_first_gates_of_each_cell) {
+    CoincidenceStats all, dwell, short_run;
+    const CoincidenceGrid grid = collect_grid(20000, {{40.1, 0.5}}, 0.002, 1);
+    const auto full = grid.finish(&all);
+    const auto part = grid.finish(&dwell, 5000);
+    const auto alone = collect(5000, {{40.1, 0.5}}, 0.002, 1, &short_run);
+    ASSERT_EQ(full.size(), 1u);
+    ASSERT_EQ(part.size(), alone.size());
+    ASSERT_EQ(part.size(), 1u);
+    EXPECT_EQ(part[0].z, alone[0].z);
+    EXPECT_EQ(part[0].expected, alone[0].expected);
+    EXPECT_EQ(part[0].events, alone[0].events);
+    EXPECT_EQ(part[0].gates, alone[0].gates);
+    EXPECT_EQ(dwell.gates, 5000u);
+    EXPECT_EQ(dwell.events, short_run.events);
+    EXPECT_EQ(dwell.noise_per_bin, short_run.noise_per_bin);
+    EXPECT_EQ(all.gates, 20000u);
+    EXPECT_GT(full[0].events, 3 * part[0].events);
+    // A window that leaves the cell out leaves no gate.
+    CoincidenceStats none;
+    EXPECT_TRUE(collect_grid(100, {{40.1, 0.5}}, 0.002, 1, 1e-6, CoincidenceWindow{1, 1, 2, 2})
+                    .finish(&none)
+                    .empty());
+    EXPECT_EQ(none.gates, 0u);
 }
 
 TEST(Coincidence, noise_alone_gives_no_point) {

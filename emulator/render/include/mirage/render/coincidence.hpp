@@ -8,6 +8,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -18,11 +19,21 @@
 
 namespace mirage::render {
 
+// A ground rectangle (local frame): gates whose mid-gate point falls outside are left out.
+struct CoincidenceWindow {
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool contains(double x, double y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+};
+
 struct CoincidenceParams {
     double cell_m = 0.5;  // ground cell side
     double bin_m = 0.15;  // height bin
     std::uint32_t min_events = 3;
     double false_alarm = 1e-6;  // per bin: P(the cell's noise alone gives ≥ its count)
+    // The dwell: each cell counts only its first this many gates in time (0: all), as a
+    // collection that looked at it this many times would have (the seed's 60 / 240 / 480).
+    std::uint32_t gates_per_cell = 0;
+    std::optional<CoincidenceWindow> window;  // none: every gate
 };
 
 struct CoincidencePoint {
@@ -54,25 +65,37 @@ struct GateEvent {
 class CoincidenceGrid {
   public:
     explicit CoincidenceGrid(CoincidenceParams p);
-    // A gate and its first event (null: none fired). ConfigError for a gate not looking down.
+    // A gate and its first event (null: none fired), in time order. ConfigError for a gate not
+    // looking down. Gates outside the window are left out.
     void add(const Gate& gate, const GateEvent* first);
-    std::vector<CoincidencePoint> finish(CoincidenceStats* stats = nullptr) const;
+    // The points, each cell counting its first `gates_per_cell` gates (0: the params' own), so
+    // one grid answers several dwells.
+    std::vector<CoincidencePoint> finish(CoincidenceStats* stats = nullptr,
+                                         std::uint32_t gates_per_cell = 0) const;
 
   private:
     struct Column {
-        std::vector<std::int32_t> top, bottom;  // per gate: its first and last bin (top ≥ bottom)
-        std::vector<std::int32_t> fired;        // per first event: its bin
+        // Per gate, in time order: its first and last bin (top ≥ bottom) and the bins it was
+        // armed for (to its event, or all).
+        std::vector<std::int32_t> top, bottom;
+        std::vector<std::uint32_t> armed;
+        // Per first event, in time order: its bin and its gate's index in the column.
+        std::vector<std::int32_t> fired;
+        std::vector<std::uint32_t> gate_of;
         std::vector<GateEvent> events;
-        std::uint64_t armed_bins = 0;  // Σ over gates of the bins each was armed for
     };
-    void finish_column(const Column& c, std::vector<CoincidencePoint>& out, double& noise) const;
+    // Of column c, its first g gates and their m events.
+    struct Dwell {
+        const Column& c;
+        std::size_t g, m;
+    };
+    void finish_column(const Dwell& d, std::vector<CoincidencePoint>& out, double& noise) const;
     CoincidencePoint bin_point(const Column& c, std::uint32_t h, std::uint32_t armed,
                                std::span<const std::uint32_t> events) const;
     std::int32_t bin_of(double z) const;
 
     CoincidenceParams p_;
     std::unordered_map<std::int64_t, Column> columns_;
-    std::uint64_t gates_ = 0, events_ = 0;
 };
 
 // Keeps each pulse's first event (return 1) for coincidence(), passing every point on to `next`
@@ -92,6 +115,9 @@ class FirstEventSink : public PointSink {
 // A rendered Geiger-mode collection's events (`events`, in pulse order as render() writes them)
 // through the grid: every pulse of the setup's run is a gate from the receiver's minimum to its
 // maximum range along its line of sight.
+CoincidenceGrid coincidence_grid(const Setup& setup, std::span<const core::PointRecord> events,
+                                 const CoincidenceParams& params);
+// coincidence_grid(...).finish(stats).
 std::vector<CoincidencePoint> coincidence(const Setup& setup,
                                           std::span<const core::PointRecord> events,
                                           const CoincidenceParams& params,
