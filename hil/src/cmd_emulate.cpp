@@ -111,8 +111,7 @@ void register_emulate(CLI::App& app) {
                 "emulate: --as-fast-as-possible needs --duration (a static pose "
                 "otherwise streams until Ctrl-C)");
         if (forever) in.duration = "86400";  // until interrupted (a day at most)
-        const bool csv =
-            !is_static && in.trajectory != "demo-car" && in.trajectory != "demo-flight";
+        const bool csv = !is_static && !is_demo_trajectory(in.trajectory);
         if (in.start.empty() && !csv) in.start = gps_now_spec();
 
         Job job = load_job(in);

@@ -65,6 +65,10 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 
 }  // namespace
 
+bool is_demo_trajectory(const std::string& spec) {
+    return spec == "demo-car" || spec == "demo-flight" || spec == "demo-camouflage";
+}
+
 render::Setup Job::setup() const {
     if (!renderer) throw std::logic_error("Job::setup: no renderer built");
     return {*scene, *renderer, sensor, trajectory, mount, env, options};
@@ -108,7 +112,7 @@ void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajecto
             ->capture_default_str();
         app.add_option("--trajectory", in.trajectory,
                        "Trajectory CSV, 'static:x,y,z[,roll,pitch,yaw]' (local m, deg), "
-                       "'demo-car' or 'demo-flight'");
+                       "'demo-car', 'demo-flight' or 'demo-camouflage'");
         app.add_option("--interpolation", in.interpolation,
                        "Trajectory positions between samples: linear or cubic (attitude: slerp)")
             ->check(CLI::IsMember({"linear", "cubic"}))
@@ -239,14 +243,16 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
         }
         job.trajectory = core::Trajectory::fixed(pose);
         span = std::chrono::seconds(1);
-    } else if (tspec == "demo-car" || tspec == "demo-flight") {
+    } else if (is_demo_trajectory(tspec)) {
         if (!is_demo_scene(in.scene))
             throw ConfigError(fmt::format("--trajectory {}: only valid with --scene demo", tspec));
         const core::Nanos d =
             requested.count() > 0 ? requested : core::Nanos(std::chrono::seconds(10));
-        job.trajectory = tspec == "demo-car"
-                             ? scene::demo_car_trajectory(demo_options(in.scene), start, d)
-                             : scene::demo_flight_trajectory(demo_options(in.scene), start, d);
+        const scene::DemoTownOptions town = demo_options(in.scene);
+        job.trajectory = tspec == "demo-car" ? scene::demo_car_trajectory(town, start, d)
+                         : tspec == "demo-flight"
+                             ? scene::demo_flight_trajectory(town, start, d)
+                             : scene::demo_camouflage_trajectory(town, start, d);
         span = d;
     } else {
         job.trajectory =

@@ -49,6 +49,9 @@ struct JobInputs {
 
 void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajectory = true);
 
+// demo-car, demo-flight, demo-camouflage: trajectories of the demo town (--scene demo only).
+bool is_demo_trajectory(const std::string& spec);
+
 // Owns what a render needs; setup() hands it to render::render() and the other renderers.
 struct Job {
     std::shared_ptr<const scene::Scene> scene;  // shared: renderers keep pointers into it

@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "mirage/scene/demo_town.hpp"
 
@@ -31,6 +32,19 @@ class SplitMix64 {
 inline SplitMix64 stream(std::uint64_t seed, std::uint64_t purpose) {
     SplitMix64 mix(seed ^ (purpose * 0xD1B54A32D192ED03ull));
     return SplitMix64(mix.next());
+}
+
+// A matte material with its LAS class and colour (8-bit, stored ×257).
+inline Material material(const char* name, double reflectance, std::uint8_t cls, int r, int g,
+                         int b) {
+    Material m;
+    m.name = name;
+    m.reflectance = reflectance;
+    m.classification = cls;
+    m.red = static_cast<std::uint16_t>(r * 257);
+    m.green = static_cast<std::uint16_t>(g * 257);
+    m.blue = static_cast<std::uint16_t>(b * 257);
+    return m;
 }
 
 enum Purpose : std::uint64_t { kHills = 1, kBuildings, kTrees, kCars, kSigns };
@@ -73,5 +87,25 @@ RoadLoop road_loop(const DemoTownOptions& opt);
 inline constexpr double kRoadHalfWidth = 4.0;  // 8 m asphalt
 inline constexpr double kRoadLift = 0.03;      // asphalt 3 cm above the terrain (no z-fighting)
 inline constexpr double kLaneOffset = 2.0;     // driving lane centre, right of the centreline
+
+// A building's lot, drawn from the buildings stream clear of the road and of each other.
+struct BuildingLot {
+    Eigen::Vector2d centre;
+    double w, d, height, yaw,
+        radius;      // footprint sides, eave-to-ground height, yaw, bounding circle
+    int wall, roof;  // material choices
+};
+std::vector<BuildingLot> building_lots(const DemoTownOptions& opt, const RoadLoop& loop);
+
+// The camouflaged vehicle (demo_camouflage.cpp): the clear site nearest the town centre, away
+// from the road and the buildings, and the vehicle and its net placed there.
+struct CamouflageSite {
+    Eigen::Vector2d centre;
+    double yaw;     // the vehicle's heading
+    double radius;  // bounding circle of the net
+};
+CamouflageSite camouflage_site(const DemoTownOptions& opt, const RoadLoop& loop,
+                               const std::vector<BuildingLot>& lots);
+void add_camouflaged_vehicle(Scene& s, const CamouflageSite& site, const Hills& hills);
 
 }  // namespace mirage::scene::demo

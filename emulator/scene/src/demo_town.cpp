@@ -19,21 +19,11 @@ namespace mirage::scene {
 namespace {
 
 using demo::Hills;
+using demo::material;
 using demo::RoadLoop;
 using demo::SplitMix64;
 
 constexpr double kPi = std::numbers::pi;
-
-Material material(const char* name, double reflectance, std::uint8_t cls, int r, int g, int b) {
-    Material m;
-    m.name = name;
-    m.reflectance = reflectance;
-    m.classification = cls;
-    m.red = static_cast<std::uint16_t>(r * 257);
-    m.green = static_cast<std::uint16_t>(g * 257);
-    m.blue = static_cast<std::uint16_t>(b * 257);
-    return m;
-}
 
 struct Materials {
     std::uint32_t ground, asphalt, walls[3], roofs[2], bark, crown, paint, glass, tyre, sign_face,
@@ -287,6 +277,36 @@ void validate(const DemoTownOptions& opt) {
 
 }  // namespace
 
+namespace demo {
+
+std::vector<BuildingLot> building_lots(const DemoTownOptions& opt, const RoadLoop& loop) {
+    SplitMix64 rng = stream(opt.seed, kBuildings);
+    const double half = opt.size_m / 2;
+    std::vector<BuildingLot> lots;
+    std::vector<Footprint> taken;
+    const long max_tries = 200L * opt.buildings + 1000;
+    for (long tries = 0; std::ssize(lots) < opt.buildings && tries < max_tries; ++tries) {
+        BuildingLot lot;
+        lot.w = rng.uniform(10, 20), lot.d = rng.uniform(10, 20);
+        lot.height = rng.uniform(6, 25);
+        lot.yaw = rng.uniform(0, kPi);
+        // As one constructor call, so the two draws keep the order the town has always had.
+        const Eigen::Vector2d c(rng.uniform(-half + 20, half - 20),
+                                rng.uniform(-half + 20, half - 20));
+        lot.centre = c;
+        lot.wall = static_cast<int>(rng.next() % 3);
+        lot.roof = static_cast<int>(rng.next() % 2);
+        lot.radius = 0.5 * std::hypot(lot.w, lot.d);
+        if (loop.distance(lot.centre) < kRoadHalfWidth + 8.0 + lot.radius) continue;
+        if (!clear_of(taken, lot.centre, lot.radius, 4.0)) continue;
+        taken.push_back({lot.centre, lot.radius});
+        lots.push_back(lot);
+    }
+    return lots;
+}
+
+}  // namespace demo
+
 double terrain_height(const DemoTownOptions& opt, double x, double y) {
     return Hills(opt.seed).height(x, y);
 }
@@ -303,28 +323,19 @@ Scene make_demo_town(const DemoTownOptions& opt) {
     s.add_mesh(terrain_mesh(opt, hills, mat.ground));
     s.add_mesh(road_mesh(loop, hills, mat.asphalt));
 
-    // Buildings: rejection sampling clear of the road (asphalt, parked cars, signs) and of
-    // each other.
+    // Buildings on their lots (demo_layout.hpp), then the camouflaged vehicle clear of them.
+    const std::vector<demo::BuildingLot> lots = demo::building_lots(opt, loop);
     std::vector<Footprint> taken;
     {
-        SplitMix64 rng = demo::stream(opt.seed, demo::kBuildings);
         Mesh b;
         b.name = "buildings";
-        const long max_tries = 200L * opt.buildings + 1000;
-        int placed = 0;
-        for (long tries = 0; placed < opt.buildings && tries < max_tries; ++tries) {
-            const double w = rng.uniform(10, 20), d = rng.uniform(10, 20);
-            const double height = rng.uniform(6, 25);
-            const double yaw = rng.uniform(0, kPi);
-            const Eigen::Vector2d c(rng.uniform(-half + 20, half - 20),
-                                    rng.uniform(-half + 20, half - 20));
-            const int wall = static_cast<int>(rng.next() % 3);
-            const int roof = static_cast<int>(rng.next() % 2);
-            const double radius = 0.5 * std::hypot(w, d);
-            if (loop.distance(c) < demo::kRoadHalfWidth + 8.0 + radius) continue;
-            if (!clear_of(taken, c, radius, 4.0)) continue;
-            taken.push_back({c, radius});
-            ++placed;
+        for (std::size_t i = 0; i < lots.size(); ++i) {
+            const demo::BuildingLot& lot = lots[i];
+            const Eigen::Vector2d c = lot.centre;
+            const double w = lot.w, d = lot.d, height = lot.height, yaw = lot.yaw;
+            const int wall = lot.wall, roof = lot.roof;
+            taken.push_back({c, lot.radius});
+            const int placed = static_cast<int>(i) + 1;
 
             // Ridge along the longer side: local x' of length lx >= ly.
             const double lx = std::max(w, d), ly = std::min(w, d);
@@ -370,6 +381,11 @@ Scene make_demo_town(const DemoTownOptions& opt) {
                      mat.walls[wall]);
         }
         if (!b.triangles.empty()) s.add_mesh(std::move(b));
+    }
+    if (opt.camouflaged_vehicle) {
+        const demo::CamouflageSite site = demo::camouflage_site(opt, loop, lots);
+        demo::add_camouflaged_vehicle(s, site, hills);
+        taken.push_back({site.centre, site.radius});
     }
 
     // Trees: one mesh, one instance per tree (random yaw and size, base on the terrain).

@@ -18,6 +18,8 @@ constexpr std::int64_t kCarStepNs = 10'000'000;
 constexpr double kFlightSpeed = 50.0;    // m/s
 constexpr double kFlightHeight = 300.0;  // above the terrain at the town centre, m
 constexpr std::int64_t kFlightStepNs = 100'000'000;
+constexpr double kPassSpeed = 10.0;     // m/s: a dwell of ~1 000 gates per 0.5 m cell (§8)
+constexpr double kPassHeight = 1200.0;  // above the vehicle's ground, m
 
 // Sample offsets 0, step, 2·step, ... and the duration itself as the last one.
 std::vector<std::int64_t> sample_offsets(core::Nanos duration, std::int64_t step, const char* who) {
@@ -70,6 +72,34 @@ core::Trajectory demo_flight_trajectory(const DemoTownOptions& opt, core::GpsTim
         core::Pose pose;
         pose.position = {-half + kFlightSpeed * static_cast<double>(ns) * 1e-9, 0.0, z};
         pose.attitude = Eigen::Quaterniond::Identity();  // yaw 0: heading east, level
+        samples.push_back({start + core::Nanos(ns), pose});
+    }
+    return core::Trajectory(std::move(samples), core::Interpolation::Cubic);
+}
+
+core::Pose camouflaged_vehicle_pose(const DemoTownOptions& opt) {
+    if (!opt.camouflaged_vehicle)
+        throw ConfigError("demo town: these options place no camouflaged vehicle");
+    const demo::RoadLoop loop = demo::road_loop(opt);
+    const demo::CamouflageSite site =
+        demo::camouflage_site(opt, loop, demo::building_lots(opt, loop));
+    const Eigen::Vector2d c = site.centre;
+    core::Pose pose;
+    pose.position = {c.x(), c.y(), demo::Hills(opt.seed).height(c.x(), c.y())};
+    pose.attitude = Eigen::AngleAxisd(site.yaw, Eigen::Vector3d::UnitZ());
+    return pose;
+}
+
+core::Trajectory demo_camouflage_trajectory(const DemoTownOptions& opt, core::GpsTime start,
+                                            core::Nanos duration) {
+    const Eigen::Vector3d v = camouflaged_vehicle_pose(opt).position;
+    const double half = 0.5 * kPassSpeed * static_cast<double>(duration.count()) * 1e-9;
+    std::vector<core::StampedPose> samples;
+    for (std::int64_t ns : sample_offsets(duration, kFlightStepNs, "demo camouflage trajectory")) {
+        core::Pose pose;
+        pose.position = {v.x() - half + kPassSpeed * static_cast<double>(ns) * 1e-9, v.y(),
+                         v.z() + kPassHeight};
+        pose.attitude = Eigen::Quaterniond::Identity();
         samples.push_back({start + core::Nanos(ns), pose});
     }
     return core::Trajectory(std::move(samples), core::Interpolation::Cubic);

@@ -306,10 +306,49 @@ TEST_F(DemoTown, every_material_carries_a_las_class) {
     for (const Material& m : town_->materials) {
         SCOPED_TRACE(m.name);
         EXPECT_TRUE(m.classification == 2 || m.classification == 5 || m.classification == 6 ||
-                    m.classification == 11 || m.classification == 64);
+                    m.classification == 11 || (m.classification >= 64 && m.classification <= 66));
         EXPECT_GE(m.reflectance, 0.0);
         EXPECT_LE(m.reflectance + m.specular, 1.0);
     }
+}
+
+// A vehicle under a net with holes on the clear site nearest the centre: the vehicle wholly under
+// the net, the net clear of the buildings (their bounding circles) and the road, no tree in it.
+TEST_F(DemoTown, a_camouflaged_vehicle_stands_under_a_net_with_holes) {
+    const Mesh& vehicle = mesh("camouflaged_vehicle");
+    const Mesh& net = mesh("camouflage_net");
+    EXPECT_EQ(vehicle.triangles.size(), 36u);
+    EXPECT_EQ(net.triangles.size(), 10u);
+    EXPECT_EQ(material_of(vehicle, 0).classification, 65);
+    const Material& fabric = material_of(net, 0);
+    EXPECT_EQ(fabric.classification, 66);
+    EXPECT_EQ(fabric.transmission, 0.35);
+    EXPECT_EQ(fabric.reflectance, 0.4);
+    const Eigen::Vector3d at = camouflaged_vehicle_pose(opt_).position;
+    std::printf("camouflaged vehicle at (%.1f, %.1f), ground %.2f m\n", at.x(), at.y(), at.z());
+    EXPECT_DOUBLE_EQ(at.z(), terrain_height(opt_, at.x(), at.y()));
+    double top = -1e9, net_top = -1e9;
+    for (const auto& v : vehicle.vertices) {
+        top = std::max(top, double(v.z()) - at.z());
+        EXPECT_LT(std::hypot(v.x() - at.x(), v.y() - at.y()), 4.8);  // inside the net's top
+    }
+    for (const auto& v : net.vertices) {
+        net_top = std::max(net_top, double(v.z()) - at.z());
+        EXPECT_LT(std::hypot(v.x() - at.x(), v.y() - at.y()), 8.0);
+    }
+    EXPECT_NEAR(top, 2.1, 1e-5);
+    EXPECT_NEAR(net_top, 3.0, 1e-5);
+    EXPECT_GT(road_distance(at.x(), at.y()), 4.0 + 8.0 + 8.0);
+    const Mesh& b = mesh("buildings");
+    for (const auto& v : b.vertices)
+        EXPECT_GT(std::hypot(v.x() - at.x(), v.y() - at.y()), 8.0 + 4.0);
+    for (const Instance* i : instances_of("tree")) {
+        const Eigen::Vector3d p = i->transform.translation();
+        EXPECT_GT(std::hypot(p.x() - at.x(), p.y() - at.y()), 8.0);
+    }
+    DemoTownOptions none = opt_;
+    none.camouflaged_vehicle = false;
+    EXPECT_THROW(camouflaged_vehicle_pose(none), ConfigError);
 }
 
 TEST(DemoTownSeeds, same_seed_gives_identical_geometry_and_another_seed_differs) {
@@ -400,6 +439,23 @@ TEST(DemoTrajectory, flight_is_straight_and_level_300_m_above_the_centre_heading
     EXPECT_DOUBLE_EQ(s.back().pose.position.x(), 500.0);
     const core::Pose mid = tr.at(t0 + core::Nanos(10'050'000'000));
     EXPECT_NEAR(mid.position.x(), 2.5, 1e-6);
+}
+
+TEST(DemoTrajectory, camouflage_pass_flies_1200_m_over_the_vehicle_at_ten_metres_per_second) {
+    const DemoTownOptions opt;
+    const Eigen::Vector3d v = camouflaged_vehicle_pose(opt).position;
+    const core::GpsTime t0{core::Nanos(5'000'000'000)};
+    const core::Trajectory tr = demo_camouflage_trajectory(opt, t0, core::Nanos(2'000'000'000));
+    const auto& s = tr.samples();
+    ASSERT_EQ(s.size(), 21u);
+    for (const auto& p : s) {
+        EXPECT_DOUBLE_EQ(p.pose.position.z(), v.z() + 1200.0);
+        EXPECT_DOUBLE_EQ(p.pose.position.y(), v.y());
+        EXPECT_TRUE(p.pose.attitude.isApprox(Eigen::Quaterniond::Identity()));
+    }
+    EXPECT_DOUBLE_EQ(s.front().pose.position.x(), v.x() - 10.0);
+    EXPECT_NEAR(s[10].pose.position.x(), v.x(), 1e-9);  // over the vehicle half-way
+    EXPECT_DOUBLE_EQ(s.back().pose.position.x(), v.x() + 10.0);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@ struct DemoTownOptions {
     int trees = 500;
     int cars = 60;
     int signs = 40;
+    bool camouflaged_vehicle = true;
 };
 
 // Deterministic town: rolling terrain (2 triangles per grid cell), ~200 buildings with pitched
@@ -33,7 +34,10 @@ struct DemoTownOptions {
 //  - trees: mesh "tree" (trunk + crown, class 5) placed by `trees`
 //    instances; cars: mesh "car" placed by `cars` instances beside the road, tilted onto the
 //    terrain; signs: mesh "sign" (retroreflective plate on a post) placed by `signs`
-//    instances facing oncoming traffic.
+//    instances facing oncoming traffic;
+//  - a camouflaged vehicle: mesh "camouflaged_vehicle" (class 65) under mesh "camouflage_net"
+//    (class 66, reflectance 0.4, transmission 0.35: a net with holes) on the clear site nearest
+//    the centre (camouflaged_vehicle_pose), which the trees then avoid.
 // Throws ConfigError("demo town: ...") on impossible options (size, grid, negative counts).
 Scene make_demo_town(const DemoTownOptions& opt = {});
 
@@ -53,5 +57,15 @@ core::Trajectory demo_car_trajectory(const DemoTownOptions& opt, core::GpsTime s
 // centre, along y = 0, passing x = 0 half-way through `duration`. Samples every 100 ms, Cubic.
 core::Trajectory demo_flight_trajectory(const DemoTownOptions& opt, core::GpsTime start,
                                         core::Nanos duration);
+
+// The camouflaged vehicle's pose: position local x, y and the ground's z there; attitude its
+// heading (a yaw). ConfigError when the options place no vehicle.
+core::Pose camouflaged_vehicle_pose(const DemoTownOptions& opt);
+
+// A slow pass for a photon-counting array (docs/photon-counting.md §8): level flight heading east
+// at 10 m/s, 1 200 m above the camouflaged vehicle's ground, over it half-way through `duration`.
+// Samples every 100 ms, Cubic.
+core::Trajectory demo_camouflage_trajectory(const DemoTownOptions& opt, core::GpsTime start,
+                                            core::Nanos duration);
 
 }  // namespace mirage::scene
