@@ -8,6 +8,7 @@
 #include <map>
 
 #include "commands.hpp"
+#include "demo_photon.hpp"
 #include "job.hpp"
 #include "las_options.hpp"
 #include "mirage/core/trajectory.hpp"
@@ -123,8 +124,8 @@ void run_one(const DemoRun& run, const std::string& scene_spec, const std::files
 void register_demo(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "demo",
-        "Render the demo town: VLP-16 car drive, airborne mirror flight and a full-waveform "
-        "flight");
+        "Render the demo town: VLP-16 car drive, airborne mirror flight, a full-waveform "
+        "flight and a photon-counting pass over a camouflaged vehicle");
     struct Opts {
         std::string out_dir = ".";
         std::uint64_t seed = 1;
@@ -132,6 +133,7 @@ void register_demo(CLI::App& app) {
         std::string car_seconds = "10";
         std::string flight_seconds = "6";
         std::string waveform_seconds = "0.25";
+        std::string photon_seconds = "1.8";
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--out-dir", o->out_dir, "Where the LAS files and previews go")
@@ -144,6 +146,9 @@ void register_demo(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--waveform-seconds", o->waveform_seconds,
                     "Length of the full-waveform flight (0: none)")
+        ->capture_default_str();
+    cmd->add_option("--photon-seconds", o->photon_seconds,
+                    "Length of the photon-counting pass over the camouflaged vehicle (0: none)")
         ->capture_default_str();
     cmd->callback([o] {
         const std::filesystem::path dir = std::filesystem::absolute(o->out_dir).lexically_normal();
@@ -168,6 +173,9 @@ void register_demo(CLI::App& app) {
                      o->waveform_seconds.c_str(),
                      {6, 0.001, true, 256, false}},
                     scene_spec, dir, o->seed, o->threads, scene, scene_seconds, renderer);
+        if (parse_seconds(o->photon_seconds, "--photon-seconds").count() > 0)
+            run_photon_demo({scene_spec, o->photon_seconds, o->seed, o->threads}, dir, scene,
+                            scene_seconds, renderer);
         fmt::print("\nDemo outputs are in {}\n", dir.string());
     });
 }
