@@ -333,6 +333,28 @@ void check_detector_keys(const Reader& r, const YAML::Node& n, DetectorKind kind
             r.fail(join_path("detector", key), "only with detector.type: geiger");
 }
 
+// A Geiger-mode pixel is armed once per laser pulse (docs/photon-counting.md §2): its gate must
+// close before the next pulse fires, and a pixel that fired must be armed again by the next gate
+// (dead time carried across pulses, a free-running array, is not modelled).
+void check_geiger_timing(const Reader& r, const SensorModel& m) {
+    if (m.detector != DetectorKind::Geiger || !m.scan) return;
+    constexpr double kC = 299'792'458.0;
+    const double period_ns = 1e9 * double(m.scan->group_size()) / m.scan->pulse_rate_hz();
+    const double open_ns = 2e9 * m.receiver.min_range_m / kC;
+    const double close_ns = 2e9 * m.receiver.max_range_m / kC;
+    if (close_ns >= period_ns)
+        r.fail("receiver.max_range_m", "the gate closes " + num(close_ns * 1e-3) +
+                                           " µs after the pulse, past the next one (every " +
+                                           num(period_ns * 1e-3) + " µs)");
+    if (close_ns + m.geiger.dead_time_ns > period_ns + open_ns)
+        r.fail("detector.dead_time_ns",
+               "a pixel firing at the gate's close would still be dead when the next gate opens "
+               "(" +
+                   num(close_ns * 1e-3) + " + " + num(m.geiger.dead_time_ns * 1e-3) + " > " +
+                   num(period_ns * 1e-3) + " + " + num(open_ns * 1e-3) +
+                   " µs); free-running arrays are not modelled");
+}
+
 // `detector:`: `type: discrete` (default) or `linear` with the digitiser and APD settings
 // (docs/time-resolved.md §7); those settings are refused with the discrete detector, where they
 // would do nothing.
@@ -611,6 +633,7 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
         m.point_source_id = static_cast<std::uint16_t>(
             r.integer(root["point_source_id"], "point_source_id", 0, 65535));
     finish_array(r, root, m);
+    check_geiger_timing(r, m);
     if (m.geiger.crosstalk_probability > 0.0 && !m.array.on())
         r.fail("detector.crosstalk_probability", "crosstalk needs neighbours: an array");
     return m;

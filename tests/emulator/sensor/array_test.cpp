@@ -112,7 +112,7 @@ TEST(Array, yaml_errors_name_the_key) {
             load_sensor_yaml_text(yaml, "bad.yaml");
             ADD_FAILURE() << "accepted: " << yaml;
         } catch (const ConfigError& e) {
-            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what() << " | " << what;
         }
     };
     fails("base: vlp16\narray: {rows: 4}\n", "array.columns: required");
@@ -130,6 +130,17 @@ TEST(Array, yaml_errors_name_the_key) {
           "detector.bits: only with detector.type: linear");
     fails("base: vlp16\ndetector: {type: geiger, paralyzable: maybe}\n",
           "detector.paralyzable: 'maybe' is not true or false");
+    fails("base: vlp16\ndetector: {type: geiger, afterpulse_probability: 1.5}\n",
+          "detector.afterpulse_probability: 1.5 is outside [0, 1]");
+    fails("base: gmapd-32x32\ndetector: {crosstalk_probability: -0.1}\n",
+          "detector.crosstalk_probability: -0.1 is outside [0, 1]");
+    fails("base: gmapd-32x32\narray: {columns: 100000}\n", "array.columns: 100000 is outside");
+    // 20 kHz: a pulse every 50 µs; the gate from 1 100 m closes at 9.34 µs.
+    fails("base: gmapd-32x32\nreceiver: {max_range_m: 8000}\n",
+          "receiver.max_range_m: the gate closes 53.3703 µs after the pulse, past the next one "
+          "(every 50 µs)");
+    fails("base: gmapd-32x32\ndetector: {dead_time_ns: 48000}\n",
+          "detector.dead_time_ns: a pixel firing at the gate's close would still be dead");
 }
 
 TEST(Array, geiger_detector_keys) {
