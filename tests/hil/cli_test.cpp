@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "cli_run.hpp"
 #include "mirage/las/las_reader.hpp"
@@ -52,6 +54,27 @@ TEST(Cli, render_coincidence_writes_points_and_a_dwell_caps_the_gates_per_cell) 
     EXPECT_GT(gates(dwell.output), 1000.0) << dwell.output;
     EXPECT_LT(gates(dwell.output), 0.5 * gates(all.output)) << dwell.output;
     EXPECT_LT(las::LasFile::read(tmp.file("c.las")).points().size(), points.points().size());
+}
+
+// A frame preset (docs/photon-counting.md §3): one flash of nvig-320x240 from 500 m over the
+// demo town lights its 20° × 15° field: a point per pixel over about 2·500·tan 7.5° by
+// 2·500·tan 10° (rows along x, columns along y; the terrain's ±8 m moves the edges by ~2 %).
+TEST(Cli, render_one_frame_of_the_nvig_preset_covers_its_field) {
+    TempDir tmp;
+    const auto r = run_mirage(
+        "render --scene demo --sensor nvig-320x240 --trajectory static:100,100,500 --duration 0.1 "
+        "--out " +
+        tmp.file("f.las"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("76800 pulses"), std::string::npos) << r.output;
+    const auto f = las::LasFile::read(tmp.file("f.las"));
+    const auto& h = f.header();
+    EXPECT_GT(h.point_count, 76000u);
+    const double along = h.max[0] - h.min[0], across = h.max[1] - h.min[1];
+    std::printf("one nvig frame from 500 m: %llu points over %.1f x %.1f m\n",
+                static_cast<unsigned long long>(h.point_count), along, across);
+    EXPECT_NEAR(along, 2 * 500 * std::tan(7.535 * std::numbers::pi / 180), 0.05 * along);
+    EXPECT_NEAR(across, 2 * 500 * std::tan(10.0 * std::numbers::pi / 180), 0.05 * across);
 }
 
 // `render --waveform` (docs/commands.md): format 6 becomes 9, the packets land in the EVLR, or

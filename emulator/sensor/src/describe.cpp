@@ -14,6 +14,7 @@
 #include "mirage/sensor/presets.hpp"
 #include "mirage/sensor/sensor.hpp"
 #include "mirage/sensor/spinning.hpp"
+#include "mirage/sensor/staring.hpp"
 
 namespace mirage::sensor {
 namespace {
@@ -85,6 +86,9 @@ std::string describe(const SensorModel& m) {
             to_string(c.kind), c.prf_hz * 1e-3, c.scan_rate_hz, c.lines_per_s(), c.fov_deg,
             c.facets, c.tilt_deg);
     }
+    if (const auto* stare = dynamic_cast<const StaringPattern*>(laser))
+        out += fmt::format("  scan: staring {}, {:.3f} Hz (a frame per pulse)\n",
+                           stare->nadir() ? "down" : "forward", stare->pulse_rate_hz());
     if (m.array.on()) out += array_text(m.array, m.scan->pulse_rate_hz());
     out += fmt::format(
         "  beam: {:.1f} nm, {:.4f} uJ, {:.2f} ns (peak {:.1f} W), divergence {:.3f} mrad {}, "

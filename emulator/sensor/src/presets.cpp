@@ -11,6 +11,7 @@
 #include "mirage/sensor/airborne.hpp"
 #include "mirage/sensor/array.hpp"
 #include "mirage/sensor/spinning.hpp"
+#include "mirage/sensor/staring.hpp"
 #include "ouster_presets.hpp"
 
 namespace mirage::sensor {
@@ -255,6 +256,60 @@ SensorModel gmapd_32x32() {
     return m;
 }
 
+// A flash frame staring along `nadir` or forward: the laser at `frame_hz` behind the array, every
+// pixel-pulse one frame's pixel (docs/photon-counting.md §3).
+SensorModel flash_frame(const std::string& name, const Optics& o, bool nadir, double frame_hz) {
+    SensorModel m;
+    m.name = name;
+    m.scan = std::make_shared<StaringPattern>(frame_hz, nadir);
+    m.airborne = nadir;
+    m.point_source_id = 1;
+    apply_optics(o, m);
+    m.beam.profile = BeamProfile::TopHat;  // shaped to the array's field: 1/N per pixel
+    m.beam.sub_rays = 1;
+    return m;
+}
+
+// NVIG-like (the second seed): a 320 × 240 frame at 10 Hz looking down, 1064 nm, the seed's
+// discrete detection (void rule, range noise, jitter). 50 µm pixels behind a 45.4 mm f/1.4 lens:
+// 1.10 mrad, a 20° × 15° field (176 × 132 m from 500 m). 200 mJ flashes: a 10 % surface at 500 m
+// gives each pixel a few hundred e⁻ (docs/photon-counting.md §3).
+SensorModel nvig_320x240() {
+    Optics o = als_optics();
+    o.energy_uj = 200e3;
+    o.aperture_mm = 32;
+    o.min_range_m = 50;
+    o.max_range_m = 3000;
+    SensorModel m = flash_frame("nvig-320x240", o, true, 10);
+    m.array.columns = 320;
+    m.array.rows = 240;
+    m.array.pitch_m = 50e-6;
+    m.array.focal_length_m = 45.37e-3;
+    m.array.fill_factor = 0.8;
+    make_array(m, "preset 'nvig-320x240'");
+    return m;
+}
+
+// An automotive flash lidar (illustrative, of the class of 128 × 32-pixel, 25 Hz flash units):
+// looking forward, 905 nm, 93 µm pixels behind a 5 mm f/1.2 lens: 18.6 mrad pixels, a 100° × 33°
+// field; 1 mJ flashes of 5 ns, so a 10 % target at 30 m gives each pixel a few hundred e⁻
+// (docs/photon-counting.md §3); discrete detection with the VLP-16's noise.
+SensorModel automotive_flash_128x32() {
+    Optics o = vlp16_optics();
+    o.energy_uj = 1000;
+    o.aperture_mm = 4.2;
+    o.min_range_m = 0.5;
+    o.max_range_m = 150;
+    SensorModel m = flash_frame("flash-128x32", o, false, 25);
+    m.array.columns = 128;
+    m.array.rows = 32;
+    m.array.pitch_m = 93e-6;
+    m.array.focal_length_m = 5e-3;
+    m.array.fill_factor = 0.6;
+    make_array(m, "preset 'flash-128x32'");
+    return m;
+}
+
 }  // namespace
 
 double detector_area_for_ifov(double ifov_rad, double aperture_diameter_m, double f_number) {
@@ -287,7 +342,7 @@ std::vector<std::string> preset_names() {
     std::vector<std::string> names = {"vlp16", "vlp16-hires", "vlp32c", "hdl32e", "hdl64e-s3"};
     for (auto& n : detail::ouster_preset_names()) names.push_back(std::move(n));
     for (const char* n : {"als-mirror", "als-mirror-sine", "als-polygon", "als-palmer",
-                          "als-waveform", "gmapd-32x32"})
+                          "als-waveform", "gmapd-32x32", "nvig-320x240", "flash-128x32"})
         names.emplace_back(n);
     return names;
 }
@@ -325,6 +380,8 @@ SensorModel preset(const std::string& name) {
         return airborne_model(name, als_config(AirborneKind::Palmer, 1000, 50, 40));
     if (name == "als-waveform") return als_waveform();
     if (name == "gmapd-32x32") return gmapd_32x32();
+    if (name == "nvig-320x240") return nvig_320x240();
+    if (name == "flash-128x32") return automotive_flash_128x32();
     std::string known;
     for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
     throw ConfigError("sensor: unknown preset '" + name + "' (known: " + known + ")");

@@ -333,6 +333,13 @@ void check_detector_keys(const Reader& r, const YAML::Node& n, DetectorKind kind
             r.fail(join_path("detector", key), "only with detector.type: geiger");
 }
 
+// What a base sensor's scan is, for errors about keys that would replace it.
+std::string what_scan(const ScanPattern& scan) {
+    if (dynamic_cast<const SpinningPattern*>(&scan)) return "a spinning sensor";
+    if (dynamic_cast<const AirbornePattern*>(&scan)) return "an airborne sensor";
+    return "a " + scan.kind() + " sensor";
+}
+
 // A Geiger-mode pixel is armed once per laser pulse (docs/photon-counting.md §2): its gate must
 // close before the next pulse fires, and a pixel that fired must be armed again by the next gate
 // (dead time carried across pulses, a free-running array, is not modelled).
@@ -616,7 +623,8 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
 
     if (root["spinning"]) {
         const auto* base = dynamic_cast<const SpinningPattern*>(m.scan.get());
-        if (m.scan && !base) r.fail("spinning", "base '" + base_name + "' is an airborne sensor");
+        if (m.scan && !base)
+            r.fail("spinning", "base '" + base_name + "' is " + what_scan(*m.scan));
         const std::uint32_t base_channels = base ? base->channels() : 0;
         m.scan = read_spinning(r, root["spinning"], base, base_name);
         m.airborne = false;
@@ -625,7 +633,8 @@ SensorModel read_sensor(const std::string& path, const std::string* text) {
     }
     if (root["airborne"]) {
         const auto* base = dynamic_cast<const AirbornePattern*>(m.scan.get());
-        if (m.scan && !base) r.fail("airborne", "base '" + base_name + "' is a spinning sensor");
+        if (m.scan && !base)
+            r.fail("airborne", "base '" + base_name + "' is " + what_scan(*m.scan));
         m.scan = read_airborne(r, root["airborne"], base);
         m.airborne = true;
     }

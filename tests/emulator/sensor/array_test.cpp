@@ -112,7 +112,8 @@ TEST(Array, yaml_errors_name_the_key) {
             load_sensor_yaml_text(yaml, "bad.yaml");
             ADD_FAILURE() << "accepted: " << yaml;
         } catch (const ConfigError& e) {
-            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what() << " | " << what;
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos)
+                << e.what() << " | " << what;
         }
     };
     fails("base: vlp16\narray: {rows: 4}\n", "array.columns: required");
@@ -194,6 +195,51 @@ TEST(Array, gmapd_preset_and_files_based_on_it) {
     for (const std::string& bad : {std::string("base: gmapd-32x32\nreceiver: {f_number: 2}\n"),
                                    std::string("base: gmapd-32x32\nnoise: {range_sigma_m: 0.1}\n")})
         EXPECT_THROW(load_sensor_yaml_text(bad, "bad.yaml"), ConfigError) << bad;
+}
+
+// The frame presets (docs/photon-counting.md §3): a staring laser behind a flash array, a frame
+// per pulse; the field from pitch and focal length; a physical lens (f-number ≥ 1); the expected
+// photo-electrons of a pixel over a 10 % surface at the design range.
+TEST(Array, frame_presets_stare_with_a_flash) {
+    struct Case {
+        const char* name;
+        std::uint32_t columns, rows;
+        double frame_hz, field_h_deg, field_v_deg, range_m;
+        bool nadir;
+    };
+    for (const Case& c : {Case{"nvig-320x240", 320, 240, 10, 20.0, 15.07, 500, true},
+                          Case{"flash-128x32", 128, 32, 25, 100.0, 33.2, 30, false}}) {
+        SCOPED_TRACE(c.name);
+        const auto p = preset(c.name);
+        ASSERT_TRUE(p.array.on());
+        EXPECT_EQ(p.array.columns, c.columns);
+        EXPECT_EQ(p.array.rows, c.rows);
+        const auto& laser = dynamic_cast<const ArrayScan&>(*p.scan).laser();
+        ASSERT_EQ(laser.kind(), "staring");
+        EXPECT_DOUBLE_EQ(laser.pulse_rate_hz(), c.frame_hz);
+        EXPECT_EQ(p.airborne, c.nadir);
+        PulseSpec first[2];
+        laser.pulses(0, 2, first);
+        EXPECT_EQ(first[1].t_ns, static_cast<std::int64_t>(1e9 / c.frame_hz));
+        EXPECT_EQ(first[0].dir, c.nadir ? Eigen::Vector3f(0, 0, -1) : Eigen::Vector3f(1, 0, 0));
+        const double ifov = p.array.pitch_m / p.array.focal_length_m;
+        const auto field = [&](std::uint32_t n) {
+            return 2 * std::atan(0.5 * n * ifov) * 180 / std::numbers::pi;
+        };
+        EXPECT_NEAR(field(c.columns), c.field_h_deg, 0.1);
+        EXPECT_NEAR(field(c.rows), c.field_v_deg, 0.1);
+        EXPECT_GE(p.receiver.f_number, 1.0);
+        BeamParams laser_beam = p.beam;
+        const double n = double(p.array.share[0]) * p.array.fill_factor *
+                         lambertian_electrons(laser_beam, p.receiver, 0.1, c.range_m);
+        std::printf("%s: a pixel, 10 %% at %.0f m: %.0f photo-electrons, f/%.2f\n", c.name,
+                    c.range_m, n, p.receiver.f_number);
+        EXPECT_GT(n, 100.0);
+        EXPECT_LT(n, 1000.0);
+        EXPECT_NE(describe(p).find("staring"), std::string::npos);
+    }
+    EXPECT_THROW(load_sensor_yaml_text("base: nvig-320x240\nairborne: {prf_khz: 10}\n", "x"),
+                 ConfigError);
 }
 
 }  // namespace

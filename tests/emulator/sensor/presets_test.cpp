@@ -16,8 +16,8 @@ namespace {
 
 TEST(Presets, every_preset_constructs_with_unit_directions) {
     const auto names = preset_names();
-    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 5 airborne, 1 array.
-    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 5u + 1u);
+    // 5 Velodyne, Ouster OS0/OS1/OS2 × 32/64/128 beams × 6 modes, 5 airborne, 3 arrays.
+    EXPECT_EQ(names.size(), 5u + 3u * 3u * 6u + 5u + 3u);
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
     for (const auto& name : names) {
         const SensorModel m = preset(name);

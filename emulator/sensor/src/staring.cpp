@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mirage/sensor/staring.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mirage/core/error.hpp"
+#include "mirage/core/rounding.hpp"
+#include "scan_math.hpp"
+
+namespace mirage::sensor {
+
+StaringPattern::StaringPattern(double prf_hz, bool nadir)
+    : prf_hz_(prf_hz), period_ns_(1e9 / prf_hz), nadir_(nadir) {
+    if (!(prf_hz > 0) || prf_hz > 1e9)
+        throw ConfigError("sensor: staring: prf must be in (0, 1 GHz]");
+}
+
+std::int64_t StaringPattern::time_ns(std::uint64_t k) const {
+    return static_cast<std::int64_t>(core::round_half_away(static_cast<double>(k) * period_ns_));
+}
+
+std::uint64_t StaringPattern::pulse_count(core::Nanos duration) const {
+    const double n = static_cast<double>(duration.count()) / period_ns_;
+    const std::uint64_t hi = static_cast<std::uint64_t>(std::max(0.0, n)) + 2;
+    return detail::count_before(duration.count(), hi,
+                                [this](std::uint64_t k) { return time_ns(k); });
+}
+
+void StaringPattern::pulses(std::uint64_t first, std::size_t n, PulseSpec* out) const {
+    for (std::size_t i = 0; i < n; ++i) {
+        PulseSpec& p = out[i];
+        p = PulseSpec{};
+        p.t_ns = time_ns(first + i);
+        p.dir = nadir_ ? Eigen::Vector3f(0, 0, -1) : Eigen::Vector3f(1, 0, 0);
+    }
+}
+
+}  // namespace mirage::sensor
