@@ -63,14 +63,11 @@ double AirbornePattern::cycles(std::uint64_t k) const {
 }
 
 std::int64_t AirbornePattern::time_ns(std::uint64_t k) const {
-    return static_cast<std::int64_t>(core::round_half_away(static_cast<double>(k) * period_ns_));
+    return detail::fixed_rate_time_ns(k, period_ns_);
 }
 
 std::uint64_t AirbornePattern::pulse_count(core::Nanos duration) const {
-    const double n = static_cast<double>(duration.count()) / period_ns_;
-    const std::uint64_t hi = static_cast<std::uint64_t>(std::max(0.0, n)) + 2;
-    return detail::count_before(duration.count(), hi,
-                                [this](std::uint64_t k) { return time_ns(k); });
+    return detail::fixed_rate_count(duration.count(), period_ns_);
 }
 
 void AirbornePattern::pulses(std::uint64_t first, std::size_t n, PulseSpec* out) const {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "mirage/core/rounding.hpp"
+
 namespace mirage::sensor::detail {
 
 // Number of pulses k in [0, hi) with t(k) < limit_ns, for a non-decreasing t (binary search, so
@@ -20,6 +22,18 @@ std::uint64_t count_before(std::int64_t limit_ns, std::uint64_t hi, TimeOf t) {
         }
     }
     return lo;
+}
+
+// A laser firing every period_ns: pulse k at k·period rounded to the ns, and the pulses fired
+// in [0, duration_ns) (the airborne patterns and the staring laser).
+inline std::int64_t fixed_rate_time_ns(std::uint64_t k, double period_ns) {
+    return static_cast<std::int64_t>(core::round_half_away(static_cast<double>(k) * period_ns));
+}
+inline std::uint64_t fixed_rate_count(std::int64_t duration_ns, double period_ns) {
+    const double n = static_cast<double>(duration_ns) / period_ns;
+    const std::uint64_t hi = static_cast<std::uint64_t>(n > 0.0 ? n : 0.0) + 2;
+    return count_before(duration_ns, hi,
+                        [&](std::uint64_t k) { return fixed_rate_time_ns(k, period_ns); });
 }
 
 // sin and cos of a scan angle, |x| ≤ π/4 by Taylor series (airborne mirrors swing ±10–40°):

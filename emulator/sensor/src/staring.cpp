@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "mirage/core/error.hpp"
-#include "mirage/core/rounding.hpp"
 #include "scan_math.hpp"
 
 namespace mirage::sensor {
@@ -16,22 +15,15 @@ StaringPattern::StaringPattern(double prf_hz, bool nadir)
         throw ConfigError("sensor: staring: prf must be in (0, 1 GHz]");
 }
 
-std::int64_t StaringPattern::time_ns(std::uint64_t k) const {
-    return static_cast<std::int64_t>(core::round_half_away(static_cast<double>(k) * period_ns_));
-}
-
 std::uint64_t StaringPattern::pulse_count(core::Nanos duration) const {
-    const double n = static_cast<double>(duration.count()) / period_ns_;
-    const std::uint64_t hi = static_cast<std::uint64_t>(std::max(0.0, n)) + 2;
-    return detail::count_before(duration.count(), hi,
-                                [this](std::uint64_t k) { return time_ns(k); });
+    return detail::fixed_rate_count(duration.count(), period_ns_);
 }
 
 void StaringPattern::pulses(std::uint64_t first, std::size_t n, PulseSpec* out) const {
     for (std::size_t i = 0; i < n; ++i) {
         PulseSpec& p = out[i];
         p = PulseSpec{};
-        p.t_ns = time_ns(first + i);
+        p.t_ns = detail::fixed_rate_time_ns(first + i, period_ns_);
         p.dir = nadir_ ? Eigen::Vector3f(0, 0, -1) : Eigen::Vector3f(1, 0, 0);
     }
 }

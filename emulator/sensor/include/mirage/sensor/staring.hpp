@@ -20,7 +20,6 @@ class StaringPattern final : public ScanPattern {
     bool nadir() const { return nadir_; }
 
   private:
-    std::int64_t time_ns(std::uint64_t k) const;
     double prf_hz_, period_ns_;
     bool nadir_;
 };
