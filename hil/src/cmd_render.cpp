@@ -32,7 +32,7 @@ struct Opts {
 
 // The events through the coincidence processor into o.coincidence.
 void write_coincidence(const Opts& o, const Job& job, const las::LasWriterOptions& lo,
-                       std::span<const core::PointRecord> events) {
+                       std::span<const render::FirstEvent> events) {
     render::CoincidenceStats st;
     const auto pts = render::coincidence(job.setup(), events, o.cp, &st);
     write_coincidence_las(o.coincidence, job, lo, coincidence_records(pts, job));

@@ -27,22 +27,28 @@ constexpr double kBorder = 2.0;
 constexpr double kMargin = 20.0;
 constexpr std::uint32_t kDwells[] = {60, 240, 480};
 
-// Passes on the points whose ground position lies in the frame, so a pass over a 300 m swath
-// keeps only what the views need.
+// Passes on the points whose ground position lies in `pass` (a pass over a 300 m swath keeps
+// only what the processing needs), and keeps a copy of those in `keep` for the views.
 class FrameSink : public render::PointSink {
   public:
-    FrameSink(render::CoincidenceWindow w, render::PointSink& next) : w_(w), next_(next) {}
+    FrameSink(render::CoincidenceWindow pass, render::CoincidenceWindow keep,
+              render::PointSink& next)
+        : pass_(pass), keep_(keep), next_(next) {}
     void write(std::span<const core::PointRecord> points) override {
         buf_.clear();
-        for (const auto& p : points)
-            if (w_.contains(p.x, p.y)) buf_.push_back(p);
+        for (const auto& p : points) {
+            if (!pass_.contains(p.x, p.y)) continue;
+            buf_.push_back(p);
+            if (keep_.contains(p.x, p.y)) kept.push_back(p);
+        }
         if (!buf_.empty()) next_.write(buf_);
     }
     void pulses_done(std::uint64_t next_pulse) override { next_.pulses_done(next_pulse); }
     void finish() override { next_.finish(); }
+    std::vector<core::PointRecord> kept;
 
   private:
-    render::CoincidenceWindow w_;
+    render::CoincidenceWindow pass_, keep_;
     render::PointSink& next_;
     std::vector<core::PointRecord> buf_;
 };
@@ -121,10 +127,9 @@ void run_photon_demo(const PhotonDemo& d, const std::filesystem::path& dir,
     const las::LasWriterOptions lo = writer_options(LasChoice{}, job);
     const auto events_path = dir / "demo_photon_events.las";
     las::LasWriter writer(events_path.string(), job.scene->georef, lo);
-    std::vector<core::PointRecord> events;
-    las::LasSink las_sink(writer, &events);
+    las::LasSink las_sink(writer);
     render::FirstEventSink first(&las_sink);
-    FrameSink sink({w.x0 - kMargin, w.y0 - kMargin, w.x1 + kMargin, w.y1 + kMargin}, first);
+    FrameSink sink({w.x0 - kMargin, w.y0 - kMargin, w.x1 + kMargin, w.y1 + kMargin}, w, first);
     fmt::print("\n== photon: gmapd-32x32 at night along demo-camouflage for {} s ==\n", d.seconds);
     ProgressBar bar(job.sensor.scan->pulse_count(job.options.duration));
     const auto stats =
@@ -132,10 +137,10 @@ void run_photon_demo(const PhotonDemo& d, const std::filesystem::path& dir,
     bar.finish(stats);
     print_summary(stdout, "demo", job, stats);
     fmt::print("  vehicle under the net at ({:.1f}, {:.1f}); {} events within {} m of it in {}\n",
-               f.at.x(), f.at.y(), events.size(), kFrame / 2 + kBorder + kMargin,
+               f.at.x(), f.at.y(), writer.points_written(), kFrame / 2 + kBorder + kMargin,
                events_path.string());
 
-    write_views(dir, "events", events, f.top, f.side, f.at.z());
+    write_views(dir, "events", sink.kept, f.top, f.side, f.at.z());
     const render::CoincidenceGrid grid = render::coincidence_grid(job.setup(), first.events, f.cp);
     for (const std::uint32_t dwell : kDwells) {
         render::CoincidenceStats st;

@@ -35,10 +35,11 @@ TEST(Cli, render_writes_a_valid_las_with_a_summary) {
 // coincidence points as valid LAS; --pulses-per-cell caps the gates each cell counts.
 TEST(Cli, render_coincidence_writes_points_and_a_dwell_caps_the_gates_per_cell) {
     TempDir tmp;
-    const std::string base =
+    const std::string scene =
         "render --scene demo --sensor gmapd-32x32 --trajectory static:0,0,1200 --duration 0.02 "
         "--sun-elevation-deg -1 --out " +
-        tmp.file("e.las") + " --coincidence " + tmp.file("c.las");
+        tmp.file("e.las");
+    const std::string base = scene + " --threads 2 --coincidence " + tmp.file("c.las");
     const auto gates = [](const std::string& out) {
         const auto at = out.find("coincidence: ");
         return at == std::string::npos ? 0.0 : std::stod(out.substr(at + 13));
@@ -49,6 +50,16 @@ TEST(Cli, render_coincidence_writes_points_and_a_dwell_caps_the_gates_per_cell) 
     const auto points = las::LasFile::read(tmp.file("c.las"));
     EXPECT_TRUE(points.validate().empty());
     EXPECT_GT(points.points().size(), 500u);
+    // One thread gives the same points in the same order (docs/photon-counting.md §5).
+    const auto one = run_mirage(scene + " --threads 1 --coincidence " + tmp.file("c1.las"));
+    ASSERT_EQ(one.exit_code, 0) << one.output;
+    const auto single = las::LasFile::read(tmp.file("c1.las"));
+    ASSERT_EQ(single.points().size(), points.points().size());
+    for (std::size_t k = 0; k < single.points().size(); ++k) {
+        ASSERT_EQ(single.points()[k].x, points.points()[k].x) << k;
+        ASSERT_EQ(single.points()[k].z, points.points()[k].z) << k;
+        ASSERT_EQ(single.points()[k].intensity, points.points()[k].intensity) << k;
+    }
     const auto dwell = run_mirage(base + " --pulses-per-cell 20");
     ASSERT_EQ(dwell.exit_code, 0) << dwell.output;
     EXPECT_GT(gates(dwell.output), 1000.0) << dwell.output;

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
+#include <thread>
 
 #include "mirage/core/error.hpp"
 #include "mirage/render/trace_batches.hpp"
@@ -37,6 +39,31 @@ struct Bin {
 
 std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
 
+std::size_t thread_count(int threads) {
+    return threads > 0 ? std::size_t(threads)
+                       : std::size_t(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// f(0) … f(parts − 1), each on a thread of its own (f(0) on the caller's); the first exception
+// any of them threw is rethrown once all are done.
+template <class F>
+void run_parts(std::size_t parts, F&& f) {
+    std::vector<std::exception_ptr> error(parts);
+    const auto guarded = [&](std::size_t t) {
+        try {
+            f(t);
+        } catch (...) {
+            error[t] = std::current_exception();
+        }
+    };
+    std::vector<std::thread> threads;
+    for (std::size_t t = 1; t < parts; ++t) threads.emplace_back(guarded, t);
+    guarded(0);
+    for (auto& th : threads) th.join();
+    for (const auto& e : error)
+        if (e) std::rethrow_exception(e);
+}
+
 }  // namespace
 
 CoincidenceGrid::CoincidenceGrid(CoincidenceParams p) : p_(p) {
@@ -58,7 +85,12 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
     if (p_.window && !p_.window->contains(mid.x(), mid.y())) return;
     const auto ix = static_cast<std::int64_t>(std::floor(mid.x() / p_.cell_m));
     const auto iy = static_cast<std::int64_t>(std::floor(mid.y() / p_.cell_m));
-    Column& c = columns_[cell_key(ix, iy)];
+    const std::int64_t key = cell_key(ix, iy);
+    if (!last_.column || last_.key != key) {
+        last_.key = key;
+        last_.column = &columns_[key];
+    }
+    Column& c = *last_.column;
     const std::int32_t top = bin_of(gate.origin.z() + gate.r0 * gate.dir.z());
     const std::int32_t bottom = bin_of(gate.origin.z() + gate.r1 * gate.dir.z());
     const std::int32_t stop = first ? std::clamp(bin_of(first->z), bottom, top) : bottom;
@@ -75,28 +107,62 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
 std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
                                                       std::uint32_t gates_per_cell) const {
     const std::uint32_t dwell = gates_per_cell ? gates_per_cell : p_.gates_per_cell;
-    std::vector<CoincidencePoint> out;
-    double noise_sum = 0;
-    std::uint64_t gates = 0, events = 0;
-    for (const auto& [key, c] : columns_) {
-        const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.top.size()) : c.top.size();
-        const auto m = static_cast<std::size_t>(
-            std::lower_bound(c.gate_of.begin(), c.gate_of.end(), static_cast<std::uint32_t>(g)) -
-            c.gate_of.begin());
-        double noise = 0;
-        finish_column({c, g, m}, out, noise);
-        noise_sum += noise;
-        gates += g;
-        events += m;
-    }
+    // Cells in key order, so neither the points' order nor the noise's sum depends on threads.
+    std::vector<std::pair<std::int64_t, const Column*>> cells;
+    cells.reserve(columns_.size());
+    for (const auto& [key, c] : columns_) cells.emplace_back(key, &c);
+    std::sort(cells.begin(), cells.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t parts =
+        std::min(thread_count(p_.threads), std::max<std::size_t>(1, cells.size() / 64));
+    std::vector<std::vector<CoincidencePoint>> out(parts);
+    std::vector<double> noise(cells.size(), 0.0);
+    std::vector<std::uint64_t> gates(parts, 0), events(parts, 0);
+    run_parts(parts, [&](std::size_t t) {
+        for (std::size_t i = cells.size() * t / parts; i < cells.size() * (t + 1) / parts; ++i) {
+            const Column& c = *cells[i].second;
+            const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.top.size()) : c.top.size();
+            const auto m = static_cast<std::size_t>(
+                std::lower_bound(c.gate_of.begin(), c.gate_of.end(), std::uint32_t(g)) -
+                c.gate_of.begin());
+            finish_column({c, g, m}, out[t], noise[i]);
+            gates[t] += g;
+            events[t] += m;
+        }
+    });
+    std::vector<CoincidencePoint> all;
+    for (auto& part : out) all.insert(all.end(), part.begin(), part.end());
     if (stats) {
-        stats->gates = gates;
-        stats->events = events;
-        stats->cells = columns_.size();
-        stats->points = out.size();
-        stats->noise_per_bin = columns_.empty() ? 0.0 : noise_sum / double(columns_.size());
+        double noise_sum = 0;
+        for (const double v : noise) noise_sum += v;
+        stats->gates = stats->events = 0;
+        for (std::size_t t = 0; t < parts; ++t)
+            stats->gates += gates[t], stats->events += events[t];
+        stats->cells = cells.size();
+        stats->points = all.size();
+        stats->noise_per_bin = cells.empty() ? 0.0 : noise_sum / double(cells.size());
     }
-    return out;
+    return all;
+}
+
+void CoincidenceGrid::append(CoincidenceGrid&& later) {
+    last_.column = nullptr;
+    for (auto& [key, from] : later.columns_) {
+        Column& c = columns_[key];
+        if (c.top.empty()) {
+            c = std::move(from);
+            continue;
+        }
+        const auto offset = static_cast<std::uint32_t>(c.top.size());
+        c.top.insert(c.top.end(), from.top.begin(), from.top.end());
+        c.bottom.insert(c.bottom.end(), from.bottom.begin(), from.bottom.end());
+        c.armed.insert(c.armed.end(), from.armed.begin(), from.armed.end());
+        c.fired.insert(c.fired.end(), from.fired.begin(), from.fired.end());
+        for (const std::uint32_t g : from.gate_of) c.gate_of.push_back(g + offset);
+        c.events.insert(c.events.end(), from.events.begin(), from.events.end());
+    }
+    later.columns_.clear();
+    later.last_.column = nullptr;
 }
 
 namespace {
@@ -192,7 +258,8 @@ CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::uint32_t h, st
 void FirstEventSink::write(std::span<const core::PointRecord> points) {
     if (next_) next_->write(points);
     for (const auto& p : points)
-        if (p.return_number == 1) events.push_back(p);
+        if (p.return_number == 1)
+            events.push_back({p.pulse, {p.x, p.y, p.z, p.classification, p.event == 1}});
 }
 
 void FirstEventSink::pulses_done(std::uint64_t next_pulse) {
@@ -203,34 +270,56 @@ void FirstEventSink::finish() {
     if (next_) next_->finish();
 }
 
-CoincidenceGrid coincidence_grid(const Setup& setup, std::span<const core::PointRecord> events,
-                                 const CoincidenceParams& params) {
-    CoincidenceGrid grid(params);
+namespace {
+
+// Pulses [lo, hi) of the setup's run (lo a whole number of trace batches) as gates into `grid`.
+void add_gates(const Setup& setup, std::span<const FirstEvent> events, std::uint64_t lo,
+               std::uint64_t hi, CoincidenceGrid& grid) {
     const auto& rx = setup.sensor.receiver;
     const RayBatchBuilder builder(setup.sensor, setup.trajectory, setup.mount, setup.options.start);
-    const std::uint64_t pulses = setup.sensor.scan->pulse_count(setup.options.duration);
     const std::size_t batch = trace_batch_pulses(setup.sensor);
+    std::size_t next = static_cast<std::size_t>(
+        std::lower_bound(events.begin(), events.end(), lo,
+                         [](const FirstEvent& e, std::uint64_t p) { return e.pulse < p; }) -
+        events.begin());
     RayBatch g;
-    std::size_t next = 0;  // the next event to look at
-    for (std::uint64_t first = 0; first < pulses; first += batch) {
-        builder.build(first,
-                      static_cast<std::size_t>(std::min<std::uint64_t>(batch, pulses - first)), g);
+    for (std::uint64_t first = lo; first < hi; first += batch) {
+        builder.build(first, static_cast<std::size_t>(std::min<std::uint64_t>(batch, hi - first)),
+                      g);
         for (std::size_t i = 0; i < g.specs.size(); ++i) {
             const std::uint64_t pulse = first + i;
             while (next < events.size() && events[next].pulse < pulse) ++next;
-            const core::PointRecord* e =
-                next < events.size() && events[next].pulse == pulse ? &events[next] : nullptr;
-            GateEvent ge;
-            if (e) ge = {e->x, e->y, e->z, e->classification, e->event == 1};
+            const bool fired = next < events.size() && events[next].pulse == pulse;
             grid.add({g.origin_of(i), g.direction_of(i), rx.min_range_m, rx.max_range_m},
-                     e ? &ge : nullptr);
+                     fired ? &events[next].event : nullptr);
         }
     }
-    return grid;
 }
 
-std::vector<CoincidencePoint> coincidence(const Setup& setup,
-                                          std::span<const core::PointRecord> events,
+}  // namespace
+
+CoincidenceGrid coincidence_grid(const Setup& setup, std::span<const FirstEvent> events,
+                                 const CoincidenceParams& params) {
+    CoincidenceParams p = params;
+    if (p.threads == 0) p.threads = setup.options.threads;
+    const std::uint64_t pulses = setup.sensor.scan->pulse_count(setup.options.duration);
+    const std::uint64_t batch = trace_batch_pulses(setup.sensor);
+    const std::uint64_t batches = (pulses + batch - 1) / batch;
+    const std::size_t parts = static_cast<std::size_t>(
+        std::min<std::uint64_t>(thread_count(p.threads), std::max<std::uint64_t>(1, batches)));
+    std::vector<CoincidenceGrid> grids;
+    grids.reserve(parts);
+    for (std::size_t t = 0; t < parts; ++t) grids.emplace_back(p);
+    run_parts(parts, [&](std::size_t t) {
+        const std::uint64_t lo = batches * t / parts * batch;
+        const std::uint64_t hi = std::min(pulses, batches * (t + 1) / parts * batch);
+        add_gates(setup, events, lo, hi, grids[t]);
+    });
+    for (std::size_t t = 1; t < parts; ++t) grids[0].append(std::move(grids[t]));
+    return std::move(grids[0]);
+}
+
+std::vector<CoincidencePoint> coincidence(const Setup& setup, std::span<const FirstEvent> events,
                                           const CoincidenceParams& params,
                                           CoincidenceStats* stats) {
     return coincidence_grid(setup, events, params).finish(stats);

@@ -24,13 +24,14 @@ constexpr std::size_t kBins = 400;  // and spans 100 m
 // returns (height, mean events) fall in their bins; noise per bin on top. Each gate's first event.
 CoincidenceGrid collect_grid(std::uint64_t gates, std::vector<std::pair<double, double>> returns,
                              double noise, std::uint64_t seed, double false_alarm = 1e-6,
-                             std::optional<CoincidenceWindow> window = {}) {
+                             std::optional<CoincidenceWindow> window = {},
+                             std::uint64_t first_gate = 0) {
     std::vector<double> signal(kBins, 0.0);
     for (const auto& [z, n] : returns) signal[static_cast<std::size_t>((kTop - z) / kBin)] += n;
     const physics::EventRate rate(signal, noise, kBin);
     CoincidenceGrid grid({1.0, kBin, 3, false_alarm, 0, window});
     std::vector<physics::GeigerEvent> ev;
-    for (std::uint64_t g = 0; g < gates; ++g) {
+    for (std::uint64_t g = first_gate; g < first_gate + gates; ++g) {
         core::PulseRng rng(seed, g, 0);
         physics::geiger_events(rate, {{1e9, false}}, rng, 1, ev);
         const Gate gate{{0.1, 0.1, kTop + 1000.0}, {0, 0, -1}, 1000.0, 1000.0 + kBins * kBin};
@@ -99,6 +100,29 @@ TEST(Coincidence, a_dwell_counts_the_first_gates_of_each_cell) {
                     .finish(&none)
                     .empty());
     EXPECT_EQ(none.gates, 0u);
+}
+
+// Threads fill grids of consecutive gates and append them: the same as one grid of all gates.
+TEST(Coincidence, appended_grids_equal_one_grid_of_all_their_gates) {
+    CoincidenceStats one, two;
+    const auto whole = collect_grid(20000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7).finish(&one);
+    CoincidenceGrid first = collect_grid(8000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7);
+    first.append(collect_grid(12000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7, 1e-6, {}, 8000));
+    const auto joined = first.finish(&two, 0);
+    ASSERT_EQ(whole.size(), 2u);
+    ASSERT_EQ(joined.size(), whole.size());
+    for (std::size_t k = 0; k < whole.size(); ++k) {
+        EXPECT_EQ(joined[k].z, whole[k].z);
+        EXPECT_EQ(joined[k].expected, whole[k].expected);
+        EXPECT_EQ(joined[k].events, whole[k].events);
+    }
+    EXPECT_EQ(two.gates, one.gates);
+    EXPECT_EQ(two.events, one.events);
+    EXPECT_EQ(two.noise_per_bin, one.noise_per_bin);
+    // And a dwell over the joined grid reaches into the appended gates in order.
+    CoincidenceStats d;
+    first.finish(&d, 10000);
+    EXPECT_EQ(d.gates, 10000u);
 }
 
 TEST(Coincidence, noise_alone_gives_no_point) {

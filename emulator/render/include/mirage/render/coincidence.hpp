@@ -34,6 +34,7 @@ struct CoincidenceParams {
     // collection that looked at it this many times would have (the seed's 60 / 240 / 480).
     std::uint32_t gates_per_cell = 0;
     std::optional<CoincidenceWindow> window;  // none: every gate
+    int threads = 0;  // finishing the cells, 0: hardware concurrency (the result does not change)
 };
 
 struct CoincidencePoint {
@@ -62,6 +63,12 @@ struct GateEvent {
     bool signal = false;
 };
 
+// A pulse's first event, as FirstEventSink keeps it for coincidence().
+struct FirstEvent {
+    std::uint64_t pulse = 0;
+    GateEvent event;
+};
+
 class CoincidenceGrid {
   public:
     explicit CoincidenceGrid(CoincidenceParams p);
@@ -72,6 +79,8 @@ class CoincidenceGrid {
     // one grid answers several dwells.
     std::vector<CoincidencePoint> finish(CoincidenceStats* stats = nullptr,
                                          std::uint32_t gates_per_cell = 0) const;
+    // Appends a grid of later gates (the same params): each of its columns after this one's.
+    void append(CoincidenceGrid&& later);
 
   private:
     struct Column {
@@ -94,32 +103,46 @@ class CoincidenceGrid {
                                std::span<const std::uint32_t> events) const;
     std::int32_t bin_of(double z) const;
 
+    // The column add() used last: a frame's neighbouring pixels mostly share a cell. Never
+    // carried over by a copy (it points into this grid's own map).
+    struct LastColumn {
+        std::int64_t key = 0;
+        Column* column = nullptr;
+        LastColumn() = default;
+        LastColumn(const LastColumn&) {}
+        LastColumn& operator=(const LastColumn&) {
+            column = nullptr;
+            return *this;
+        }
+    };
+
     CoincidenceParams p_;
     std::unordered_map<std::int64_t, Column> columns_;
+    LastColumn last_;
 };
 
-// Keeps each pulse's first event (return 1) for coincidence(), passing every point on to `next`
-// when there is one (a LAS sink, say).
+// Keeps each pulse's first event (return 1) for coincidence(), in pulse order, passing every
+// point on to `next` when there is one (a LAS sink, say).
 class FirstEventSink : public PointSink {
   public:
     explicit FirstEventSink(PointSink* next = nullptr) : next_(next) {}
     void write(std::span<const core::PointRecord> points) override;
     void pulses_done(std::uint64_t next_pulse) override;
     void finish() override;
-    std::vector<core::PointRecord> events;
+    std::vector<FirstEvent> events;
 
   private:
     PointSink* next_;
 };
 
-// A rendered Geiger-mode collection's events (`events`, in pulse order as render() writes them)
-// through the grid: every pulse of the setup's run is a gate from the receiver's minimum to its
-// maximum range along its line of sight.
-CoincidenceGrid coincidence_grid(const Setup& setup, std::span<const core::PointRecord> events,
+// A rendered Geiger-mode collection's first events (in pulse order, as FirstEventSink keeps
+// them) through the grid: every pulse of the setup's run is a gate from the receiver's minimum to
+// its maximum range along its line of sight. The setup's threads share the pulses (in whole
+// batches, appended in time order) and then the cells; the result does not depend on them.
+CoincidenceGrid coincidence_grid(const Setup& setup, std::span<const FirstEvent> events,
                                  const CoincidenceParams& params);
 // coincidence_grid(...).finish(stats).
-std::vector<CoincidencePoint> coincidence(const Setup& setup,
-                                          std::span<const core::PointRecord> events,
+std::vector<CoincidencePoint> coincidence(const Setup& setup, std::span<const FirstEvent> events,
                                           const CoincidenceParams& params,
                                           CoincidenceStats* stats = nullptr);
 
