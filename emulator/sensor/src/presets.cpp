@@ -227,6 +227,17 @@ SensorModel als_waveform() {
 
 // An airborne Geiger-mode flash array, ALIRT-like (docs/photon-counting.md §3 gives each value's
 // source): a 32 × 32 array on a 15° sinusoidal whisk broom at 780 nm, gated for ~1 200 m.
+// Puts a columns × rows array of `pitch_m` pixels behind a `focal_m` lens on the preset's laser.
+void put_array(SensorModel& m, std::uint32_t columns, std::uint32_t rows, double pitch_m,
+               double focal_m, double fill_factor) {
+    m.array.columns = columns;
+    m.array.rows = rows;
+    m.array.pitch_m = pitch_m;
+    m.array.focal_length_m = focal_m;
+    m.array.fill_factor = fill_factor;
+    make_array(m, "preset '" + m.name + "'");
+}
+
 SensorModel gmapd_32x32() {
     AirborneConfig c = als_config(AirborneKind::Sine, 20, 10, 15);
     SensorModel m = airborne_model("gmapd-32x32", c);
@@ -248,11 +259,7 @@ SensorModel gmapd_32x32() {
     m.geiger.dead_time_ns = 2000;  // ≥ the gate: framed, one event per pixel and gate
     m.geiger.jitter_ns = 0.24;
     m.geiger.crosstalk_probability = 0.02;
-    m.array.columns = m.array.rows = 32;
-    m.array.pitch_m = 50e-6;
-    m.array.focal_length_m = 0.8;
-    m.array.fill_factor = 0.7;
-    make_array(m, "preset 'gmapd-32x32'");
+    put_array(m, 32, 32, 50e-6, 0.8, 0.7);
     return m;
 }
 
@@ -281,12 +288,7 @@ SensorModel nvig_320x240() {
     o.min_range_m = 50;
     o.max_range_m = 3000;
     SensorModel m = flash_frame("nvig-320x240", o, true, 10);
-    m.array.columns = 320;
-    m.array.rows = 240;
-    m.array.pitch_m = 50e-6;
-    m.array.focal_length_m = 45.37e-3;
-    m.array.fill_factor = 0.8;
-    make_array(m, "preset 'nvig-320x240'");
+    put_array(m, 320, 240, 50e-6, 45.37e-3, 0.8);
     return m;
 }
 
@@ -301,12 +303,7 @@ SensorModel automotive_flash_128x32() {
     o.min_range_m = 0.5;
     o.max_range_m = 150;
     SensorModel m = flash_frame("flash-128x32", o, false, 25);
-    m.array.columns = 128;
-    m.array.rows = 32;
-    m.array.pitch_m = 93e-6;
-    m.array.focal_length_m = 5e-3;
-    m.array.fill_factor = 0.6;
-    make_array(m, "preset 'flash-128x32'");
+    put_array(m, 128, 32, 93e-6, 5e-3, 0.6);
     return m;
 }
 
