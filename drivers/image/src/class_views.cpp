@@ -84,7 +84,9 @@ RgbImage render_lowest_by_class(std::span<const core::PointRecord> pts, const Gr
             continue;
         const int col = static_cast<int>(cu), row = static_cast<int>(rv);
         double& z = low[std::size_t(row) * std::size_t(w) + std::size_t(col)];
-        if (p.z < z) z = p.z, paint(img, row, col, p.classification);
+        if (p.z >= z) continue;
+        z = p.z;
+        paint(img, row, col, p.classification);
     }
     return zoomed(img, f.zoom);
 }

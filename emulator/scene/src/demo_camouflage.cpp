@@ -18,19 +18,14 @@ namespace {
 constexpr double kNetRadius = 8.0;  // bounding circle of the 13 × 9 m net
 constexpr double kYaw = 0.5;        // vehicle heading, rad from east
 
-void add_box(Mesh& m, const Eigen::Vector3d& centre, const Eigen::Vector3d& size,
-             std::uint32_t mat) {
-    append_mesh(m, make_box(size, mat), Eigen::Affine3d(Eigen::Translation3d(centre)));
-}
-
 // A tracked vehicle, x forward, on z = 0 (sunk 0.2 m for slopes): hull 6.6 × 3.4 × 1.5 m,
 // turret 3.0 × 2.4 × 0.8 m, a 3.6 m barrel; top of the turret 2.1 m. 36 triangles.
 Mesh vehicle_mesh(std::uint32_t paint) {
     Mesh m;
     m.name = "camouflaged_vehicle";
-    add_box(m, {0.0, 0.0, 0.55}, {6.6, 3.4, 1.5}, paint);
-    add_box(m, {-0.4, 0.0, 1.7}, {3.0, 2.4, 0.8}, paint);
-    add_box(m, {2.9, 0.0, 1.75}, {3.6, 0.22, 0.22}, paint);
+    add_box(m, 0.0, 0.0, 6.6, 3.4, -0.2, 1.3, paint);    // hull
+    add_box(m, -0.4, 0.0, 3.0, 2.4, 1.3, 2.1, paint);    // turret
+    add_box(m, 2.9, 0.0, 3.6, 0.22, 1.64, 1.86, paint);  // barrel
     return m;
 }
 

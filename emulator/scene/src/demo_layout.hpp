@@ -47,6 +47,10 @@ inline Material material(const char* name, double reflectance, std::uint8_t cls,
     return m;
 }
 
+// Box between z0 and z1 with footprint sx × sy centred at (cx, cy), outward winding.
+void add_box(Mesh& m, double cx, double cy, double sx, double sy, double z0, double z1,
+             std::uint32_t mat);
+
 enum Purpose : std::uint64_t { kHills = 1, kBuildings, kTrees, kCars, kSigns };
 
 // Rolling hills: three plane waves z = Σ a_k sin(κ_k (d_k · p) + φ_k) with random directions

@@ -18,6 +18,7 @@ namespace mirage::scene {
 
 namespace {
 
+using demo::add_box;
 using demo::Hills;
 using demo::material;
 using demo::RoadLoop;
@@ -94,13 +95,6 @@ Eigen::Matrix3d on_slope(const Eigen::Vector2d& forward, const Eigen::Vector3d& 
     m.col(2) = normal;
     m.col(1) = normal.cross(x);
     return m;
-}
-
-// Box between z0 and z1 with footprint sx × sy centred at (cx, cy), outward winding.
-void add_box(Mesh& m, double cx, double cy, double sx, double sy, double z0, double z1,
-             std::uint32_t mat) {
-    Mesh b = make_box({sx, sy, z1 - z0}, mat);
-    append_mesh(m, b, Eigen::Affine3d(Eigen::Translation3d(cx, cy, (z0 + z1) / 2)));
 }
 
 // Appends a face (fan over the polygon) wound so that its normal points away from `centre`.
@@ -278,6 +272,12 @@ void validate(const DemoTownOptions& opt) {
 }  // namespace
 
 namespace demo {
+
+void add_box(Mesh& m, double cx, double cy, double sx, double sy, double z0, double z1,
+             std::uint32_t mat) {
+    Mesh b = make_box({sx, sy, z1 - z0}, mat);
+    append_mesh(m, b, Eigen::Affine3d(Eigen::Translation3d(cx, cy, (z0 + z1) / 2)));
+}
 
 std::vector<BuildingLot> building_lots(const DemoTownOptions& opt, const RoadLoop& loop) {
     SplitMix64 rng = stream(opt.seed, kBuildings);
