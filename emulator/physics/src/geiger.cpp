@@ -43,6 +43,20 @@ void EventRate::assign(std::size_t bins, std::span<const SignalBin> signal, doub
         bad_gate("the bin width " + std::to_string(bin_ns) + " ns must be > 0");
     if (!(noise_per_bin >= 0.0) || !std::isfinite(noise_per_bin))
         bad_gate("the noise per bin " + std::to_string(noise_per_bin) + " must be ≥ 0");
+    begin(bins, noise_per_bin, bin_ns);
+    std::int64_t last = -1;
+    for (const SignalBin& b : signal) {
+        if (b.k >= bins || std::int64_t(b.k) <= last)
+            bad_gate("signal bin " + std::to_string(b.k) + " out of order or past the gate");
+        if (!(b.signal >= 0.0) || !std::isfinite(b.signal))
+            bad_gate("bin " + std::to_string(b.k) + " expects a negative or non-finite signal");
+        last = b.k;
+        add(b.k, b.signal);  // (a bin without signal adds nothing)
+    }
+    finish();
+}
+
+void EventRate::begin(std::size_t bins, double noise_per_bin, double bin_ns) {
     bins_ = bins;
     noise_ = noise_per_bin;
     bin_ns_ = bin_ns;
@@ -50,17 +64,6 @@ void EventRate::assign(std::size_t bins, std::span<const SignalBin> signal, doub
     signal_.clear();
     cum_.assign(1, 0.0);
     end_.clear();
-    for (const SignalBin& b : signal) {
-        if (b.k >= bins || (!key_.empty() && b.k <= key_.back()))
-            bad_gate("signal bin " + std::to_string(b.k) + " out of order or past the gate");
-        if (!(b.signal >= 0.0) || !std::isfinite(b.signal))
-            bad_gate("bin " + std::to_string(b.k) + " expects a negative or non-finite signal");
-        key_.push_back(b.k);
-        signal_.push_back(b.signal);
-        cum_.push_back(cum_.back() + b.signal);
-        end_.push_back(noise_ * double(b.k + 1) + cum_.back());
-    }
-    total_ = noise_ * double(bins_) + cum_.back();
 }
 
 std::size_t EventRate::entry(std::size_t k) const {
@@ -130,14 +133,25 @@ double detect(double t, EventKind kind, const GeigerPixel& pixel, core::PulseRng
 
 }  // namespace
 
+double first_level(core::PulseRng& rng) { return -std::log(rng.uniform()); }
+
 void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
                    std::size_t max_events, std::vector<GeigerEvent>& out) {
+    const double level = first_level(rng);
+    geiger_events(rate, pixel, rng, level, max_events, out);
+}
+
+// `level`: Λ of the next primary event.
+void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
+                   double level, std::size_t max_events, std::vector<GeigerEvent>& out) {
     out.clear();
     const DeadTime dead = pixel.dead;
-    double level = -std::log(rng.uniform());  // Λ of the next primary event
-    double armed_at = 0.0;                    // the pixel fires from this time on
-    double afterpulse = kNever;               // a trapped carrier's release
+    double armed_at = 0.0;       // the pixel fires from this time on
+    double afterpulse = kNever;  // a trapped carrier's release
     while (out.size() < max_events) {
+        // Dead past the gate's close: nothing more can be detected (an afterpulse then is lost
+        // too), so nothing more is drawn.
+        if (!(armed_at < rate.gate_ns())) return;
         // Non-paralyzable: primary events while dead are lost, and the next after re-arming lies
         // Exp(1) beyond Λ(armed_at) (the process has no memory).
         if (!dead.paralyzable && level < rate.level_at(armed_at))

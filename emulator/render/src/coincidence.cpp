@@ -284,8 +284,8 @@ void add_gates(const Setup& setup, std::span<const FirstEvent> events, std::uint
         events.begin());
     RayBatch g;
     for (std::uint64_t first = lo; first < hi; first += batch) {
-        builder.build(first, static_cast<std::size_t>(std::min<std::uint64_t>(batch, hi - first)),
-                      g);
+        builder.build_lines(
+            first, static_cast<std::size_t>(std::min<std::uint64_t>(batch, hi - first)), g);
         for (std::size_t i = 0; i < g.specs.size(); ++i) {
             const std::uint64_t pulse = first + i;
             while (next < events.size() && events[next].pulse < pulse) ++next;

@@ -8,7 +8,6 @@
 #include <functional>
 #include <limits>
 #include <optional>
-#include <queue>
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/rng.hpp"
@@ -21,6 +20,7 @@ namespace {
 constexpr double kNsPerMeterTwoWay = 2e9 / physics::kSpeedOfLightMPerS;
 constexpr std::uint32_t kCdfCells = 4096;
 constexpr std::size_t kBinOffsets = 256;
+constexpr std::uint32_t kNoRng = 0xFFFFFFFFu;  // a pixel without a stream yet; no neighbour
 
 }  // namespace
 
@@ -88,35 +88,52 @@ void PulseShader::tabulate_bin_weights(const sensor::PulseShape& shape, double h
     }
 }
 
-// The arrivals' photo-electrons per bin of the gate (sorted by bin, each bin once).
-void PulseShader::signal_bins(std::span<const physics::Arrival> arrivals,
-                              std::vector<physics::SignalBin>& out) const {
+// An arrival's photo-electrons in the gate's bins it reaches: fn(bin, photo-electrons) in bin
+// order (one table row: the pulse's share per bin at the arrival's offset within its first bin).
+template <class Fn>
+void PulseShader::arrival_bins(const physics::Arrival& a, Fn&& fn) const {
     const GeigerGate& g = *geiger_;
-    out.clear();
+    const double d = double(a.delay_ps) * 1e-3 - g.open_ns;  // from the gate's opening
+    const double x = (d + g.shape_lo) / g.bin_ns;            // the support's start, in bins
+    const double k0 = std::floor(x);
+    const auto f = static_cast<std::size_t>(std::lround((x - k0) * double(kBinOffsets)));
+    const double* w = g.weights.data() + f * g.span;
+    for (std::size_t j = 0; j < g.span; ++j) {
+        const double k = k0 + double(j);
+        if (k < 0.0 || k >= double(g.bins)) continue;
+        const double s = double(a.pe) * w[j];
+        if (s > 0.0) fn(static_cast<std::uint32_t>(k), s);
+    }
+}
+
+// The pixel's event rate over the gate from its arrivals (sorted by delay): built in place while
+// each arrival's bins follow the previous one's; arrivals closer than the pulse overlap, and their
+// bins are merged first (sorted by bin, each bin's contributions summed in arrival order).
+void PulseShader::event_rate(std::span<const physics::Arrival> arrivals, double noise_per_bin,
+                             ShadeScratch& scratch) const {
+    const GeigerGate& g = *geiger_;
+    physics::EventRate& rate = scratch.rate;
+    rate.begin(g.bins, noise_per_bin, g.bin_ns);
+    bool overlap = false;
     for (const physics::Arrival& a : arrivals) {
-        const double d = double(a.delay_ps) * 1e-3 - g.open_ns;  // from the gate's opening
-        const double x = (d + g.shape_lo) / g.bin_ns;            // the support's start, in bins
-        const double k0 = std::floor(x);
-        const auto f = static_cast<std::size_t>(std::lround((x - k0) * double(kBinOffsets)));
-        const double* w = g.weights.data() + f * g.span;
-        for (std::size_t j = 0; j < g.span; ++j) {
-            const double k = k0 + double(j);
-            if (k < 0.0 || k >= double(g.bins)) continue;
-            const double s = double(a.pe) * w[j];
-            if (s > 0.0) out.push_back({static_cast<std::uint32_t>(k), s});
-        }
+        const std::int64_t last = rate.last_key();
+        arrival_bins(a, [&](std::uint32_t k, double s) {
+            overlap |= std::int64_t(k) <= last;
+            rate.add(k, s);
+        });
+        if (overlap) break;
     }
-    // Each arrival's bins come in order; arrivals closer than the pulse overlap and need merging.
-    const auto by_bin = [](const auto& x, const auto& y) { return x.k < y.k; };
-    if (!std::is_sorted(out.begin(), out.end(), by_bin)) std::sort(out.begin(), out.end(), by_bin);
-    std::size_t n = 0;
-    for (std::size_t j = 0; j < out.size(); ++j) {
-        if (n > 0 && out[n - 1].k == out[j].k)
-            out[n - 1].signal += out[j].signal;
-        else
-            out[n++] = out[j];
+    if (overlap) {
+        auto& out = scratch.signal_bins;
+        out.clear();
+        for (const physics::Arrival& a : arrivals)
+            arrival_bins(a, [&](std::uint32_t k, double s) { out.push_back({k, s}); });
+        std::stable_sort(out.begin(), out.end(),
+                         [](const auto& x, const auto& y) { return x.k < y.k; });
+        rate.begin(g.bins, noise_per_bin, g.bin_ns);
+        for (const physics::SignalBin& b : out) rate.add(b.k, b.signal);
     }
-    out.resize(n);
+    rate.finish();
 }
 
 // Background photo-electrons per ns at the pixel (the strongest arrival's surface under the sun)
@@ -144,18 +161,12 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
         if (b.event_at[i + 1] == b.event_at[i]) (close ? out.stats.too_close : out.stats.misses)++;
     }
     if (sensor_.geiger.crosstalk_probability > 0.0 && opt_.noise) {
-        // Frame by frame into new lists (the pixel-pulses of one laser pulse are adjacent).
-        std::vector<physics::GeigerEvent> events;
-        std::vector<std::size_t> at{0};
-        for (std::uint32_t i = 0; i < n; i += sensor_.array.pixels()) {
-            crosstalk(g, i, b);
-            for (const auto& pixel : b.frame) {
-                events.insert(events.end(), pixel.begin(), pixel.end());
-                at.push_back(events.size());
-            }
-        }
-        b.events = std::move(events);
-        b.event_at = std::move(at);
+        // Frame by frame (the pixel-pulses of one laser pulse are adjacent).
+        b.after.clear();
+        b.after_at.assign(1, 0);
+        for (std::uint32_t i = 0; i < n; i += sensor_.array.pixels()) crosstalk(g, i, b);
+        std::swap(b.events, b.after);
+        std::swap(b.event_at, b.after_at);
     }
     scratch.event_kind.clear();
     scratch.expected_pe.clear();
@@ -186,73 +197,122 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     const double energy = energy_factor(pulse);
     double expected = 0;
     for (auto& a : arrivals) expected += a.pe = static_cast<float>(a.pe * energy);
-    signal_bins(arrivals, scratch.signal_bins);
-    scratch.rate.assign(gate.bins, scratch.signal_bins,
-                        geiger_noise_per_ns(hits, arrivals) * gate.bin_ns, gate.bin_ns);
+    const double noise_per_bin = geiger_noise_per_ns(hits, arrivals) * gate.bin_ns;
     // With noise off the photon statistics stay (they are the measurement); the pixel's own
     // noise (dark counts, background, jitter, afterpulses) goes.
     physics::GeigerPixel pixel = gate.pixel;
     if (!opt_.noise) pixel.jitter_ns = pixel.afterpulse_p = 0.0;
     core::PulseRng rng(opt_.seed, pulse, kGeigerStream);
-    physics::geiger_events(scratch.rate, pixel, rng, std::size_t(sensor_.geiger.max_events),
-                           scratch.events);
+    const double level = physics::first_level(rng);
+    // The gate's expected events are at most its noise and all the arrivals' photo-electrons (a
+    // pulse's shares sum to 1 where the gate takes all of them): a first event above them is
+    // none, and the rate need not be built. The margin covers the rate's rounding.
+    if (level > (noise_per_bin * double(gate.bins) + expected) * (1.0 + 1e-9)) {
+        scratch.events.clear();
+    } else {
+        event_rate(arrivals, noise_per_bin, scratch);
+        physics::geiger_events(scratch.rate, pixel, rng, level,
+                               std::size_t(sensor_.geiger.max_events), scratch.events);
+    }
     b.events.insert(b.events.end(), scratch.events.begin(), scratch.events.end());
-    b.arrivals.insert(b.arrivals.end(), arrivals.begin(), arrivals.end());
+    if (!scratch.events.empty())  // (read for its events' surfaces only)
+        b.arrivals.insert(b.arrivals.end(), arrivals.begin(), arrivals.end());
     b.event_at.push_back(b.events.size());
     b.arrival_at.push_back(b.arrivals.size());
     b.expected.push_back(expected);
     return close;
 }
 
-// Crosstalk over the frame of pulses [i0, i0 + N), into b.frame (per pixel, in time order) (an
-// array's pixels in order; docs/ photon-counting.md §2): the frame's events in time order; one
-// while its pixel is dead (after an earlier detection, its own or a neighbour's) is lost, one while
-// armed is kept and fires each of the pixel's four neighbours with the crosstalk probability
-// (uniforms from the firing pixel-pulse's stream 9, in the order of its detections and of its
-// neighbours), at the same time. Exact for a pixel that reports its first event only; with more, an
-// own event lost to a crosstalk's dead time is not redrawn.
+// Crosstalk over the frame of pulses [i0, i0 + N), its events appended to b.after per pixel in
+// time order (an array's pixels in order; docs/photon-counting.md §2): the frame's events in time
+// order; one while its pixel is dead (after an earlier detection, its own or a neighbour's) is
+// lost, one while armed is kept and fires each of the pixel's four neighbours with the crosstalk
+// probability (uniforms from the firing pixel-pulse's stream 9, in the order of its detections
+// and of its neighbours), at the same time. Exact for a pixel that reports its first event only;
+// with more, an own event lost to a crosstalk's dead time is not redrawn.
 void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const {
     const auto& a = sensor_.array;
     const std::uint32_t n = std::min<std::uint32_t>(a.pixels(), std::uint32_t(g.specs.size() - i0));
-    b.frame.assign(n, {});
     if (g.specs[i0].pixel != 0) {  // a frame cut by the batch (never in render()): as it is
-        for (std::uint32_t p = 0; p < n; ++p)
-            b.frame[p].assign(b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p]),
-                              b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p + 1]));
+        for (std::uint32_t p = 0; p < n; ++p) {
+            b.after.insert(b.after.end(), b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p]),
+                           b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p + 1]));
+            b.after_at.push_back(b.after.size());
+        }
         return;
     }
-    struct Pending {
-        double t;
-        std::uint32_t p;
-        physics::GeigerEvent e;
-        bool operator>(const Pending& o) const { return t > o.t || (t == o.t && p > o.p); }
-    };
-    std::priority_queue<Pending, std::vector<Pending>, std::greater<>> queue;
+    b.own.clear();
     for (std::uint32_t p = 0; p < n; ++p)
         for (std::size_t e = b.event_at[i0 + p]; e < b.event_at[i0 + p + 1]; ++e)
-            queue.push({b.events[e].t_ns, p, b.events[e]});
-    std::vector<double> armed(n, -std::numeric_limits<double>::infinity());
-    std::vector<std::optional<core::PulseRng>> rng(n);
-    const double px = sensor_.geiger.crosstalk_probability, dead = sensor_.geiger.dead_time_ns;
-    const auto max_events = static_cast<std::size_t>(sensor_.geiger.max_events);
-    while (!queue.empty()) {
-        const Pending q = queue.top();
-        queue.pop();
-        if (q.t < armed[q.p] || b.frame[q.p].size() >= max_events) continue;
-        b.frame[q.p].push_back(q.e);
-        armed[q.p] = q.t + dead;
-        if (!rng[q.p]) rng[q.p].emplace(opt_.seed, g.first + i0 + q.p, kCrosstalkStream);
-        const std::uint32_t col = q.p % a.columns, row = q.p / a.columns;
-        const std::int64_t step[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
-        for (const auto& s : step) {
-            const bool hit = rng[q.p]->uniform() < px;
-            const std::int64_t c = std::int64_t(col) + s[0], r = std::int64_t(row) + s[1];
-            if (!hit || c < 0 || r < 0 || c >= std::int64_t(a.columns) || r >= std::int64_t(a.rows))
-                continue;
-            const auto to = static_cast<std::uint32_t>(r * a.columns + c);
-            if (to < n) queue.push({q.t, to, {q.e.t_ns, physics::EventKind::Crosstalk}});
+            b.own.push_back({b.events[e], p, std::uint32_t(b.own.size())});
+    std::sort(b.own.begin(), b.own.end());
+    b.made.clear();
+    b.kept.clear();
+    b.armed.assign(n, -std::numeric_limits<double>::infinity());
+    b.count.assign(n, 0);
+    b.rng_of.assign(n, kNoRng);
+    b.rngs.clear();
+    auto seq = static_cast<std::uint32_t>(b.own.size());
+    const auto later = [](const FrameEvent& x, const FrameEvent& y) { return y < x; };
+    for (std::size_t next = 0; next < b.own.size() || !b.made.empty();) {
+        FrameEvent q;
+        if (!b.made.empty() && (next == b.own.size() || b.made.front() < b.own[next])) {
+            std::pop_heap(b.made.begin(), b.made.end(), later);
+            q = b.made.back();
+            b.made.pop_back();
+        } else {
+            q = b.own[next++];
         }
+        if (q.e.t_ns < b.armed[q.p] || b.count[q.p] >= std::uint32_t(sensor_.geiger.max_events))
+            continue;
+        b.kept.push_back(q);
+        b.count[q.p]++;
+        b.armed[q.p] = q.e.t_ns + sensor_.geiger.dead_time_ns;
+        for (const std::uint32_t to : crosstalk_hits(g.first + i0, q.p, n, b))
+            if (to != kNoRng) {
+                b.made.push_back({{q.e.t_ns, physics::EventKind::Crosstalk}, to, seq++});
+                std::push_heap(b.made.begin(), b.made.end(), later);
+            }
     }
+    by_pixel(b);
+}
+
+// The neighbours (left, right, up, down) that pixel p's detection fires, kNoRng for the others:
+// one uniform each from the pixel-pulse's stream 9, opened at its first detection.
+std::array<std::uint32_t, 4> PulseShader::crosstalk_hits(std::uint64_t frame_pulse, std::uint32_t p,
+                                                         std::uint32_t n, GeigerBatch& b) const {
+    const auto& a = sensor_.array;
+    if (b.rng_of[p] == kNoRng) {
+        b.rng_of[p] = static_cast<std::uint32_t>(b.rngs.size());
+        b.rngs.emplace_back(opt_.seed, frame_pulse + p, kCrosstalkStream);
+    }
+    core::PulseRng& rng = b.rngs[b.rng_of[p]];
+    const std::uint32_t col = p % a.columns, row = p / a.columns;
+    const std::int64_t step[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    std::array<std::uint32_t, 4> to{};
+    for (int s = 0; s < 4; ++s) {
+        const bool hit = rng.uniform() < sensor_.geiger.crosstalk_probability;
+        const std::int64_t c = std::int64_t(col) + step[s][0], r = std::int64_t(row) + step[s][1];
+        const bool inside = c >= 0 && r >= 0 && c < std::int64_t(a.columns) &&
+                            r < std::int64_t(a.rows) && std::uint64_t(r * a.columns + c) < n;
+        to[s] = hit && inside ? static_cast<std::uint32_t>(r * a.columns + c) : kNoRng;
+    }
+    return to;
+}
+
+// The frame's kept events (in time order) appended to b.after pixel by pixel, each pixel's in
+// time order (a counting sort: b.count holds each pixel's kept events).
+void PulseShader::by_pixel(GeigerBatch& b) const {
+    const std::size_t base = b.after.size();
+    std::size_t at = base;
+    for (std::uint32_t& c : b.count) {  // each pixel's count becomes its first slot
+        const std::size_t k = c;
+        c = static_cast<std::uint32_t>(at - base);
+        at += k;
+    }
+    b.after.resize(at);
+    for (const FrameEvent& q : b.kept) b.after[base + b.count[q.p]++] = q.e;
+    for (const std::uint32_t end : b.count) b.after_at.push_back(base + end);
 }
 
 // An event as a pending return at c/2 of its time since emission; a signal event takes the

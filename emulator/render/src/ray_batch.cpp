@@ -94,6 +94,14 @@ void RayBatchBuilder::build(std::uint64_t first, std::size_t n, RayBatch& g) con
     make_rays(g);
 }
 
+void RayBatchBuilder::build_lines(std::uint64_t first, std::size_t n, RayBatch& g) const {
+    g.builder = this;
+    load_pulses(first, n, g);
+    g.rays.clear();
+    g.first_ray.clear();
+    if (n > 0) blend_batch_poses(g);
+}
+
 // The batch's pulse specs, and the pose loop's inputs copied out of them.
 void RayBatchBuilder::load_pulses(std::uint64_t first, std::size_t n, RayBatch& g) const {
     g.first = first;

@@ -100,6 +100,8 @@ class RayBatchBuilder {
 
     // One batch: pulses [first, first + n). An adaptive footprint's pulses get their probes only.
     void build(std::uint64_t first, std::size_t n, RayBatch& g) const;
+    // The same pulses' specs, origins and directions only, without rays (coincidence's gates).
+    void build_lines(std::uint64_t first, std::size_t n, RayBatch& g) const;
     // The sub-rays other than probes of the block of rays at [r, r + S), around its central ray,
     // their offsets times `spread` (the beam's turbulent spread, RayBatch::spread).
     void complete(RayBatch& g, std::size_t r, double spread = 1.0) const;

@@ -135,15 +135,33 @@ inline constexpr std::uint32_t kImageStream = 7;      // the return's image wand
 inline constexpr std::uint32_t kGeigerStream = 8;     // a Geiger-mode pixel's photon events
 inline constexpr std::uint32_t kCrosstalkStream = 9;  // and the crosstalk its detections make
 
+// An event of a frame under crosstalk (geiger_returns.cpp): the event, its pixel in the frame,
+// and a sequence number that orders equal times and pixels.
+struct FrameEvent {
+    physics::GeigerEvent e;
+    std::uint32_t p, seq;
+    bool operator<(const FrameEvent& o) const {
+        if (e.t_ns != o.e.t_ns) return e.t_ns < o.e.t_ns;
+        return p != o.p ? p < o.p : seq < o.seq;
+    }
+};
+
 // A batch's Geiger-mode events (geiger_returns.cpp): pulse i's events at
-// [event_at[i], event_at[i + 1]), its arrivals likewise, its expected signal photo-electrons;
-// `frame`: one frame's events per pixel while crosstalk is applied.
+// [event_at[i], event_at[i + 1]), its arrivals likewise, its expected signal photo-electrons.
+// Crosstalk's, reused frame by frame: the frame's own events in time order, a heap of the events
+// crosstalk makes, the events kept; per pixel its re-arming time, its kept events and its random
+// stream (index into rngs); the batch's events after crosstalk, as `events` and `event_at`.
 struct GeigerBatch {
     std::vector<physics::GeigerEvent> events;
     std::vector<physics::Arrival> arrivals;
     std::vector<std::size_t> event_at, arrival_at;
     std::vector<double> expected;
-    std::vector<std::vector<physics::GeigerEvent>> frame;
+    std::vector<FrameEvent> own, made, kept;
+    std::vector<double> armed;
+    std::vector<std::uint32_t> count, rng_of;
+    std::vector<core::PulseRng> rngs;
+    std::vector<physics::GeigerEvent> after;
+    std::vector<std::size_t> after_at;
 };
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
@@ -337,8 +355,13 @@ class PulseShader {
                       const std::vector<double>& weighted_k, std::uint32_t i,
                       ShadeScratch& scratch) const;
     void crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const;
-    void signal_bins(std::span<const physics::Arrival> arrivals,
-                     std::vector<physics::SignalBin>& out) const;
+    std::array<std::uint32_t, 4> crosstalk_hits(std::uint64_t frame_pulse, std::uint32_t p,
+                                                std::uint32_t n, GeigerBatch& b) const;
+    void by_pixel(GeigerBatch& b) const;
+    template <class Fn>
+    void arrival_bins(const physics::Arrival& a, Fn&& fn) const;
+    void event_rate(std::span<const physics::Arrival> arrivals, double noise_per_bin,
+                    ShadeScratch& scratch) const;
     double geiger_noise_per_ns(const std::vector<Hit>& hits,
                                std::span<const physics::Arrival> arrivals) const;
     void add_event(std::uint32_t i, std::uint32_t k, const physics::GeigerEvent& e,

@@ -237,3 +237,59 @@ TEST(Geiger, bad_gates_are_configuration_errors) {
 }
 
 }  // namespace
+
+namespace {
+
+// The pipeline's in-place build (begin/add/finish) gives the rate the checked constructor gives
+// for the same bins: a repeated bin sums, and what the constructor would refuse (a bin past the
+// gate, out of order, negative or not finite) adds nothing instead of throwing.
+TEST(Geiger, a_rate_built_in_place_equals_the_checked_one) {
+    const std::vector<mirage::physics::SignalBin> bins{{3, 0.25}, {4, 1.5}, {9, 0.125}};
+    const EventRate want(40, bins, 0.01, 0.5);
+    EventRate got;
+    got.begin(40, 0.01, 0.5);
+    got.add(3, 0.125);
+    got.add(3, 0.125);  // the same bin again: summed
+    got.add(4, 1.5);
+    got.add(2, 7.0);   // out of order
+    got.add(5, -1.0);  // negative
+    got.add(6, NAN);
+    got.add(7, INFINITY);
+    got.add(9, 0.125);
+    got.add(40, 3.0);  // past the gate
+    got.finish();
+    EXPECT_EQ(got.last_key(), 9);
+    EXPECT_DOUBLE_EQ(got.total(), want.total());
+    for (std::size_t k = 0; k <= 40; ++k) {
+        EXPECT_DOUBLE_EQ(got.before(k), want.before(k)) << k;
+        if (k < 40) {
+            EXPECT_DOUBLE_EQ(got.in(k), want.in(k)) << k;
+        }
+    }
+    for (const double level : {0.0, 0.02, 0.3, 1.0, 1.9, 2.1, 2.2})
+        EXPECT_DOUBLE_EQ(got.time_at(level), want.time_at(level)) << level;
+    got.begin(40, 0.0, 0.5);  // reused: nothing of the last build stays
+    got.finish();
+    EXPECT_EQ(got.last_key(), -1);
+    EXPECT_EQ(got.total(), 0.0);
+}
+
+// A first level drawn ahead of the rate gives the events of the draw that makes its own.
+TEST(Geiger, events_from_a_drawn_first_level_equal_the_plain_draw) {
+    const EventRate rate = noisy_return(2.0);
+    const GeigerPixel pixel{{5.0, false}, 0.3, 0.1, 20.0};
+    std::vector<GeigerEvent> a, b;
+    for (std::uint64_t g = 0; g < 2000; ++g) {
+        PulseRng r1(kSeed, g, kStream), r2(kSeed, g, kStream);
+        geiger_events(rate, pixel, r1, 8, a);
+        const double level = mirage::physics::first_level(r2);
+        geiger_events(rate, pixel, r2, level, 8, b);
+        ASSERT_EQ(a.size(), b.size()) << g;
+        for (std::size_t j = 0; j < a.size(); ++j) {
+            EXPECT_EQ(a[j].t_ns, b[j].t_ns);
+            EXPECT_EQ(a[j].kind, b[j].kind);
+        }
+    }
+}
+
+}  // namespace

@@ -35,6 +35,28 @@ class EventRate {
     // The same over new bins (reuses the storage; the sparse constructor's checks).
     void assign(std::size_t bins, std::span<const SignalBin> signal, double noise_per_bin,
                 double bin_ns);
+    // In place, for a caller whose signal is its own (the pipeline's, from a checked sensor):
+    // begin(), then add() in increasing k (a repeated k adds to its bin), then finish(). It
+    // never throws: a k past the gate, out of order, or a signal that is not a finite
+    // number > 0, adds nothing. Reuses the storage, so a pixel-pulse allocates nothing.
+    void begin(std::size_t bins, double noise_per_bin, double bin_ns);
+    void add(std::uint32_t k, double signal) {
+        if (!(k < bins_) || !(signal > 0.0) || !(signal < kHuge)) return;
+        if (!key_.empty() && k < key_.back()) return;  // out of order: the caller's error
+        if (!key_.empty() && key_.back() == k) {
+            signal_.back() += signal;
+            cum_.back() += signal;
+            end_.back() += signal;
+            return;
+        }
+        key_.push_back(k);
+        signal_.push_back(signal);
+        cum_.push_back(cum_.back() + signal);
+        end_.push_back(noise_ * double(k + 1) + cum_.back());
+    }
+    void finish() { total_ = noise_ * double(bins_) + cum_.back(); }
+    // The last bin given a signal, or −1.
+    std::int64_t last_key() const { return key_.empty() ? -1 : std::int64_t(key_.back()); }
     std::size_t bins() const { return bins_; }
     double bin_ns() const { return bin_ns_; }
     double gate_ns() const { return bin_ns_ * double(bins_); }
@@ -51,6 +73,7 @@ class EventRate {
     double first_event_probability(std::size_t k) const;
 
   private:
+    static constexpr double kHuge = 1e300;   // above it a signal is taken as not finite
     std::size_t entry(std::size_t k) const;  // signal entries with key < k
     std::vector<std::uint32_t> key_;         // signal bins, increasing
     std::vector<double> signal_;             // their S_k
@@ -95,6 +118,11 @@ std::size_t first_event_bin(const EventRate& rate, double u);
 // the jitter.
 void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
                    std::size_t max_events, std::vector<GeigerEvent>& out);
+// The same with the first event's level Λ = −ln u already drawn (first_level): a caller that
+// knows an upper bound of the rate's total can skip building it when the level lies above.
+double first_level(core::PulseRng& rng);
+void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
+                   double level, std::size_t max_events, std::vector<GeigerEvent>& out);
 
 // Coates' correction (Coates 1968): from first-event counts h_k over `gates` gates, the expected
 // events per bin n̂_k = −ln(1 − h_k/(gates − Σ_{j<k} h_j)); NaN where no gate was armed.
