@@ -31,14 +31,18 @@ void add_moments(double t0, double h, double p0, double p1, double (&m)[3]) {
 // Width at half the peak of a piecewise-linear shape: the outermost half-peak crossings.
 double tabulated_fwhm(const std::vector<double>& t, const std::vector<double>& p) {
     const double half = *std::max_element(p.begin(), p.end()) / 2;
-    auto cross = [&](std::size_t i, std::size_t j) {  // t where the segment i→j meets `half`
-        return t[i] + (t[j] - t[i]) * (half - p[i]) / (p[j] - p[i]);
+    // Where the segment from sample i (at or above `half`) to its neighbour j (below) meets
+    // `half`, measured from i: the step is a fraction of the segment in [0, 1], so the crossing
+    // stays on i's side of the segment even when j lies astronomically far (found by
+    // fuzz_pulse_table: measured from j, 2 − 1.1e84 + 1.1e84 rounded to 0) and hi ≥ lo.
+    auto step = [&](std::size_t i, std::size_t j) {
+        return std::abs(t[j] - t[i]) * ((p[i] - half) / (p[i] - p[j]));
     };
     std::size_t first = 0, last = p.size() - 1;
     while (p[first] < half) ++first;
     while (p[last] < half) --last;
-    const double lo = first == 0 ? t[0] : cross(first - 1, first);
-    const double hi = last + 1 == p.size() ? t[last] : cross(last + 1, last);
+    const double lo = first == 0 ? t[0] : t[first] - step(first, first - 1);
+    const double hi = last + 1 == p.size() ? t[last] : t[last] + step(last, last + 1);
     return hi - lo;
 }
 

@@ -32,6 +32,14 @@ TEST(PulseTable, commas_blanks_comments_and_crlf_are_read) {
     EXPECT_NEAR(s.fwhm_ns(), 1.5, 1e-12);
 }
 
+// A last sample astronomically far from the rest (fuzz_pulse_table's find): the half-maximum
+// crossings are taken from the samples above half, so the width is the near one, 1.75 ns
+// (0.25 on the rise to 2 at the sample holding exactly half), not a negative rounding artefact.
+TEST(PulseTable, a_far_last_sample_leaves_the_width_exact) {
+    const auto s = PulseShape::tabulated({0, 0.5, 1, 2, 1.1e84}, {0, 2, 1, 1, 0.6}, "p.txt");
+    EXPECT_DOUBLE_EQ(s.fwhm_ns(), 1.75);
+}
+
 TEST(PulseTable, bad_text_is_a_config_error_naming_the_line) {
     EXPECT_EQ(error_of("0 0\n1 x\n"),
               "pulse shape 'p.txt': line 2: expected two finite numbers: time_ns, relative_power");
