@@ -66,6 +66,39 @@ void EventRate::begin(std::size_t bins, double noise_per_bin, double bin_ns) {
     end_.clear();
 }
 
+void EventRate::add_run(std::int64_t k0, double scale, const double* w, std::size_t n) {
+    const std::int64_t lo = std::max<std::int64_t>(0, -k0);
+    const std::int64_t hi = std::min<std::int64_t>(std::int64_t(n), std::int64_t(bins_) - k0);
+    if (lo >= hi) return;
+    if (!key_.empty() && k0 + lo <= std::int64_t(key_.back())) {  // merges: one by one
+        for (std::int64_t j = lo; j < hi; ++j)
+            add(static_cast<std::uint32_t>(k0 + j), scale * w[j]);
+        return;
+    }
+    std::size_t m = key_.size();
+    const auto most = m + static_cast<std::size_t>(hi - lo);
+    key_.resize(most);
+    signal_.resize(most);
+    end_.resize(most);
+    cum_.resize(most + 1);
+    double c = cum_[m];
+    for (std::int64_t j = lo; j < hi; ++j) {
+        const double s = scale * w[j];
+        if (!(s > 0.0) || !(s < kHuge)) continue;
+        const auto k = static_cast<std::uint32_t>(k0 + j);
+        c += s;
+        key_[m] = k;
+        signal_[m] = s;
+        cum_[m + 1] = c;
+        end_[m] = noise_ * double(k + 1) + c;
+        ++m;
+    }
+    key_.resize(m);
+    signal_.resize(m);
+    end_.resize(m);
+    cum_.resize(m + 1);
+}
+
 std::size_t EventRate::entry(std::size_t k) const {
     return static_cast<std::size_t>(
         std::lower_bound(key_.begin(), key_.end(), static_cast<std::uint32_t>(k)) - key_.begin());

@@ -5,9 +5,7 @@
 // pulse's stream 8, become points along the pixel's line of sight.
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <optional>
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/rng.hpp"
@@ -88,22 +86,16 @@ void PulseShader::tabulate_bin_weights(const sensor::PulseShape& shape, double h
     }
 }
 
-// An arrival's photo-electrons in the gate's bins it reaches: fn(bin, photo-electrons) in bin
-// order (one table row: the pulse's share per bin at the arrival's offset within its first bin).
-template <class Fn>
-void PulseShader::arrival_bins(const physics::Arrival& a, Fn&& fn) const {
+// Where an arrival's photo-electrons fall: the gate's bin k0 takes the first entry of its table
+// row w (span entries: the pulse's share per bin at the arrival's offset within its first bin).
+PulseShader::ArrivalRow PulseShader::arrival_row(const physics::Arrival& a) const {
     const GeigerGate& g = *geiger_;
     const double d = double(a.delay_ps) * 1e-3 - g.open_ns;  // from the gate's opening
     const double x = (d + g.shape_lo) / g.bin_ns;            // the support's start, in bins
     const double k0 = std::floor(x);
     const auto f = static_cast<std::size_t>(std::lround((x - k0) * double(kBinOffsets)));
-    const double* w = g.weights.data() + f * g.span;
-    for (std::size_t j = 0; j < g.span; ++j) {
-        const double k = k0 + double(j);
-        if (k < 0.0 || k >= double(g.bins)) continue;
-        const double s = double(a.pe) * w[j];
-        if (s > 0.0) fn(static_cast<std::uint32_t>(k), s);
-    }
+    // (an arrival is inside the receiver's ranges, so k0 is within a span of the gate)
+    return {static_cast<std::int64_t>(k0), g.weights.data() + f * g.span};
 }
 
 // The pixel's event rate over the gate from its arrivals (sorted by delay): built in place while
@@ -116,18 +108,25 @@ void PulseShader::event_rate(std::span<const physics::Arrival> arrivals, double 
     rate.begin(g.bins, noise_per_bin, g.bin_ns);
     bool overlap = false;
     for (const physics::Arrival& a : arrivals) {
-        const std::int64_t last = rate.last_key();
-        arrival_bins(a, [&](std::uint32_t k, double s) {
-            overlap |= std::int64_t(k) <= last;
-            rate.add(k, s);
-        });
-        if (overlap) break;
+        const ArrivalRow r = arrival_row(a);
+        if (r.k0 + std::int64_t(g.span) > 0 && std::max<std::int64_t>(r.k0, 0) <= rate.last_key()) {
+            overlap = true;
+            break;
+        }
+        rate.add_run(r.k0, double(a.pe), r.w, g.span);
     }
     if (overlap) {
         auto& out = scratch.signal_bins;
         out.clear();
-        for (const physics::Arrival& a : arrivals)
-            arrival_bins(a, [&](std::uint32_t k, double s) { out.push_back({k, s}); });
+        for (const physics::Arrival& a : arrivals) {
+            const ArrivalRow r = arrival_row(a);
+            for (std::size_t j = 0; j < g.span; ++j) {
+                const std::int64_t k = r.k0 + std::int64_t(j);
+                const double s = double(a.pe) * r.w[j];
+                if (k >= 0 && k < std::int64_t(g.bins) && s > 0.0)
+                    out.push_back({static_cast<std::uint32_t>(k), s});
+            }
+        }
         std::stable_sort(out.begin(), out.end(),
                          [](const auto& x, const auto& y) { return x.k < y.k; });
         rate.begin(g.bins, noise_per_bin, g.bin_ns);

@@ -358,8 +358,11 @@ class PulseShader {
     std::array<std::uint32_t, 4> crosstalk_hits(std::uint64_t frame_pulse, std::uint32_t p,
                                                 std::uint32_t n, GeigerBatch& b) const;
     void by_pixel(GeigerBatch& b) const;
-    template <class Fn>
-    void arrival_bins(const physics::Arrival& a, Fn&& fn) const;
+    struct ArrivalRow {
+        std::int64_t k0;  // the gate's bin of the row's first entry
+        const double* w;  // GeigerGate::span shares
+    };
+    ArrivalRow arrival_row(const physics::Arrival& a) const;
     void event_rate(std::span<const physics::Arrival> arrivals, double noise_per_bin,
                     ShadeScratch& scratch) const;
     double geiger_noise_per_ns(const std::vector<Hit>& hits,

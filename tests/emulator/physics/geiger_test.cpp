@@ -274,6 +274,35 @@ TEST(Geiger, a_rate_built_in_place_equals_the_checked_one) {
     EXPECT_EQ(got.total(), 0.0);
 }
 
+// A run of bins (a pulse's shares times its photo-electrons) equals the same bins added one by
+// one: cut at the gate's opening and close, zero shares left out, and merged where it starts at
+// or before the last bin given.
+TEST(Geiger, a_run_of_bins_equals_its_bins_one_by_one) {
+    const std::vector<double> w{0.0, 0.125, 0.5, 0.25, 0.0, 0.125};
+    for (const std::int64_t k0 : {-3, 0, 2, 7, 10, 13}) {
+        for (const bool after_one : {false, true}) {
+            EventRate run, one;
+            run.begin(12, 0.01, 0.5);
+            one.begin(12, 0.01, 0.5);
+            if (after_one) {
+                run.add(4, 0.75);
+                one.add(4, 0.75);
+            }
+            run.add_run(k0, 2.0, w.data(), w.size());
+            for (std::size_t j = 0; j < w.size(); ++j) {
+                const std::int64_t k = k0 + std::int64_t(j);
+                if (k >= 0 && k < 12) one.add(std::uint32_t(k), 2.0 * w[j]);
+            }
+            run.finish();
+            one.finish();
+            EXPECT_EQ(run.last_key(), one.last_key()) << k0;
+            EXPECT_DOUBLE_EQ(run.total(), one.total()) << k0;
+            for (std::size_t k = 0; k <= 12; ++k)
+                EXPECT_DOUBLE_EQ(run.before(k), one.before(k)) << k0 << " " << k;
+        }
+    }
+}
+
 // A first level drawn ahead of the rate gives the events of the draw that makes its own.
 TEST(Geiger, events_from_a_drawn_first_level_equal_the_plain_draw) {
     const EventRate rate = noisy_return(2.0);

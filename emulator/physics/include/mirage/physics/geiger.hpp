@@ -54,6 +54,9 @@ class EventRate {
         cum_.push_back(cum_.back() + signal);
         end_.push_back(noise_ * double(k + 1) + cum_.back());
     }
+    // Bins k0 + j for j < n expecting scale·w[j] (a pulse's shares times its photo-electrons),
+    // as add() would take them one by one, in one pass.
+    void add_run(std::int64_t k0, double scale, const double* w, std::size_t n);
     void finish() { total_ = noise_ * double(bins_) + cum_.back(); }
     // The last bin given a signal, or −1.
     std::int64_t last_key() const { return key_.empty() ? -1 : std::int64_t(key_.back()); }
