@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-#include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
 
@@ -11,6 +10,12 @@
 #include "mirage/scene/scene.hpp"
 #include "mirage/sensor/sensor.hpp"
 #include "mirage/wire/setup.hpp"
+
+// Declared only: CLI11 compiles some 200 functions into every file that includes it, most of such
+// a file's build time, and most users of a job never touch the command line.
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace mirage::hil {
 
