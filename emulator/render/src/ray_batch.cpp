@@ -83,15 +83,8 @@ RayBatchBuilder::RayBatchBuilder(const sensor::SensorModel& sensor,
 }
 
 void RayBatchBuilder::build(std::uint64_t first, std::size_t n, RayBatch& g) const {
-    g.builder = this;
-    load_pulses(first, n, g);
-    if (n == 0) {
-        g.rays.clear();
-        g.first_ray.clear();
-        return;
-    }
-    blend_batch_poses(g);
-    make_rays(g);
+    build_lines(first, n, g);
+    if (n > 0) make_rays(g);
 }
 
 void RayBatchBuilder::build_lines(std::uint64_t first, std::size_t n, RayBatch& g) const {
