@@ -237,6 +237,8 @@ std::vector<KeyCase> cases() {
         {"detector.crosstalk_probability", "", "", geiger(kMany) + "array: {columns: 2, rows: 2}\n",
          geiger(kMany + ", crosstalk_probability: 0.5") + "array: {columns: 2, rows: 2}\n",
          kArrayRun},
+        {"detector.free_running", "", "", geiger(kMany) + "array: {columns: 2, rows: 2}\n",
+         geiger(kMany + ", free_running: true") + "array: {columns: 2, rows: 2}\n", kArrayRun},
         {"array.columns", "", "", kArray, kVlp16 + "array: {columns: 3, rows: 2}\n", kArrayRun},
         {"array.rows", "", "", kArray, kVlp16 + "array: {columns: 2, rows: 3}\n", kArrayRun},
         {"array.pitch_um", "", "", kArray, array("pitch_um: 200"), kArrayRun},

@@ -155,13 +155,59 @@ namespace {
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
 
-// A detection at t of kind `kind`, jittered, and the afterpulse it may release (kNever if none).
-double detect(double t, EventKind kind, const GeigerPixel& pixel, core::PulseRng& rng,
+// A detection at t of kind `kind`, jittered (reported unless `report` is false), and the
+// afterpulse it may release (kNever if none).
+double detect(double t, EventKind kind, const GeigerPixel& pixel, core::PulseRng& rng, bool report,
               std::vector<GeigerEvent>& out) {
     const double jitter = pixel.jitter_ns > 0.0 ? pixel.jitter_ns * rng.normal() : 0.0;
-    out.push_back({t + jitter, kind});
+    if (report) out.push_back({t + jitter, kind});
     if (!(pixel.afterpulse_p > 0.0) || rng.uniform() >= pixel.afterpulse_p) return kNever;
     return t - pixel.afterpulse_ns * std::log(rng.uniform());
+}
+
+// The draw shared by the gated and free-running windows. Gated (`track` false): the pixel starts
+// armed, every detection is reported, and the draw ends at the max_events-th. Free-running: it
+// goes on to the rate's end, reporting those before report_ns, and returns the re-arming time.
+double draw_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
+                   double level, const GeigerWindow& w, bool track, std::vector<GeigerEvent>& out) {
+    out.clear();
+    const DeadTime dead = pixel.dead;
+    double armed_at = w.armed_from_ns;  // the pixel fires from this time on
+    double afterpulse = kNever;         // a trapped carrier's release
+    const auto report = [&](double t) { return t < w.report_ns && out.size() < w.max_events; };
+    while (track || out.size() < w.max_events) {
+        // Dead past the rate's end: nothing more can be detected (an afterpulse then is lost
+        // too), so nothing more is drawn; a paralyzable pixel tracked to the end still takes
+        // the primary events that restart its dead time.
+        if (!(armed_at < rate.gate_ns()) && !(track && dead.paralyzable)) return armed_at;
+        // Non-paralyzable: primary events while dead are lost, and the next after re-arming lies
+        // Exp(1) beyond Λ(armed_at) (the process has no memory).
+        if (!dead.paralyzable && level < rate.level_at(armed_at))
+            level = rate.level_at(armed_at) - std::log(rng.uniform());
+        const double primary = level <= rate.total() ? rate.time_at(level) : kNever;
+        const double next = std::min(primary, afterpulse);
+        if (!(next < rate.gate_ns())) return armed_at;
+        if (afterpulse < primary) {
+            afterpulse = kNever;
+            if (next < armed_at) continue;  // released while dead: lost
+            armed_at = next + dead.ns;
+            afterpulse = detect(next, EventKind::Afterpulse, pixel, rng, report(next), out);
+            continue;
+        }
+        if (next >= armed_at) {
+            const auto bin =
+                std::min(rate.bins() - 1, static_cast<std::size_t>(next / rate.bin_ns()));
+            const bool signal = rng.uniform() < rate.signal_share(bin);
+            armed_at = next + dead.ns;
+            afterpulse =
+                std::min(afterpulse, detect(next, signal ? EventKind::Signal : EventKind::Noise,
+                                            pixel, rng, report(next), out));
+        } else {  // paralyzable: a primary event while dead restarts the dead time
+            armed_at = std::max(armed_at, next + dead.ns);
+        }
+        level -= std::log(rng.uniform());
+    }
+    return armed_at;
 }
 
 }  // namespace
@@ -177,41 +223,13 @@ void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseR
 // `level`: Λ of the next primary event.
 void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
                    double level, std::size_t max_events, std::vector<GeigerEvent>& out) {
-    out.clear();
-    const DeadTime dead = pixel.dead;
-    double armed_at = 0.0;       // the pixel fires from this time on
-    double afterpulse = kNever;  // a trapped carrier's release
-    while (out.size() < max_events) {
-        // Dead past the gate's close: nothing more can be detected (an afterpulse then is lost
-        // too), so nothing more is drawn.
-        if (!(armed_at < rate.gate_ns())) return;
-        // Non-paralyzable: primary events while dead are lost, and the next after re-arming lies
-        // Exp(1) beyond Λ(armed_at) (the process has no memory).
-        if (!dead.paralyzable && level < rate.level_at(armed_at))
-            level = rate.level_at(armed_at) - std::log(rng.uniform());
-        const double primary = level <= rate.total() ? rate.time_at(level) : kNever;
-        const double next = std::min(primary, afterpulse);
-        if (!(next < rate.gate_ns())) return;
-        if (afterpulse < primary) {
-            afterpulse = kNever;
-            if (next < armed_at) continue;  // released while dead: lost
-            armed_at = next + dead.ns;
-            afterpulse = detect(next, EventKind::Afterpulse, pixel, rng, out);
-            continue;
-        }
-        if (next >= armed_at) {
-            const auto bin =
-                std::min(rate.bins() - 1, static_cast<std::size_t>(next / rate.bin_ns()));
-            const bool signal = rng.uniform() < rate.signal_share(bin);
-            armed_at = next + dead.ns;
-            afterpulse = std::min(
-                afterpulse,
-                detect(next, signal ? EventKind::Signal : EventKind::Noise, pixel, rng, out));
-        } else {  // paralyzable: a primary event while dead restarts the dead time
-            armed_at = next + dead.ns;
-        }
-        level -= std::log(rng.uniform());
-    }
+    const GeigerWindow gated{0.0, kNever, max_events};
+    (void)draw_events(rate, pixel, rng, level, gated, false, out);
+}
+
+double geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
+                     double level, const GeigerWindow& window, std::vector<GeigerEvent>& out) {
+    return draw_events(rate, pixel, rng, level, window, true, out);
 }
 
 std::vector<double> coates(std::span<const std::uint64_t> histogram, std::uint64_t gates) {

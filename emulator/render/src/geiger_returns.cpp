@@ -36,6 +36,14 @@ void PulseShader::init_geiger() {
         throw ConfigError(source + ": detector.bin_ns: " + std::to_string(p.bin_ns) +
                           " ns cuts the range gate into too many bins");
     g.bins = static_cast<std::size_t>(bins);
+    g.report_ns = std::numeric_limits<double>::infinity();
+    if (p.free_running) {  // to the bin: the next window opens one period on
+        g.free_running = true;
+        g.period_ns = 1e9 * double(sensor_.scan->group_size()) / sensor_.scan->pulse_rate_hz();
+        g.report_ns = double(g.bins) * g.bin_ns;
+        g.bins = std::max(g.bins, static_cast<std::size_t>(g.period_ns / g.bin_ns));
+        chain_ = std::make_unique<CarryChain>();
+    }
     g.pixel = {{p.dead_time_ns, p.paralyzable},
                p.jitter_ns,
                p.afterpulse_probability,
@@ -154,16 +162,39 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
     b.event_at.assign(1, 0);
     b.arrival_at.assign(1, 0);
     b.expected.clear();
-    for (std::uint32_t i = 0; i < n; ++i) {
-        out.stats.pulses++;
-        const bool close = pixel_events(g, hits, terms, weighted_k, i, scratch);
-        if (b.event_at[i + 1] == b.event_at[i]) (close ? out.stats.too_close : out.stats.misses)++;
-    }
-    if (sensor_.geiger.crosstalk_probability > 0.0 && opt_.noise) {
-        // Frame by frame (the pixel-pulses of one laser pulse are adjacent).
+    take_carry(b);
+    const bool crosstalk_on = sensor_.geiger.crosstalk_probability > 0.0 && opt_.noise;
+    if (crosstalk_on) {
         b.after.clear();
         b.after_at.assign(1, 0);
-        for (std::uint32_t i = 0; i < n; i += sensor_.array.pixels()) crosstalk(g, i, b);
+    }
+    // A free-running array draws frame by frame, each pixel armed from the dead time its previous
+    // frame carries (geiger_carry.cpp); a gated one draws the batch, then its crosstalk.
+    const std::uint32_t pixels = std::max<std::uint32_t>(1, sensor_.array.pixels());
+    const auto batch = static_cast<std::uint32_t>(n);
+    for (std::uint32_t i0 = 0; i0 < batch;) {
+        const std::uint32_t end =
+            geiger_->free_running
+                ? std::min(batch, i0 + pixels - std::uint32_t((g.first + i0) % pixels))
+                : batch;
+        b.own_end.clear();
+        for (std::uint32_t i = i0; i < end; ++i) {
+            out.stats.pulses++;
+            const bool close =
+                pixel_events(g, hits, terms, weighted_k, i, carried(g.first + i, b), scratch);
+            if (b.event_at[i + 1] == b.event_at[i])
+                (close ? out.stats.too_close : out.stats.misses)++;
+        }
+        // Crosstalk frame by frame (the pixel-pulses of one laser pulse are adjacent).
+        if (crosstalk_on)
+            for (std::uint32_t i = i0; i < end; i += pixels) crosstalk(g, i, b);
+        // (crosstalk() draws a whole frame only: one the batch cut it leaves as it is)
+        if (geiger_->free_running)
+            carry_on(g.first, i0, end,
+                     crosstalk_on && (g.first + i0) % pixels == 0 && end - i0 == pixels, b);
+        i0 = end;
+    }
+    if (crosstalk_on) {
         std::swap(b.events, b.after);
         std::swap(b.event_at, b.after_at);
     }
@@ -180,11 +211,12 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
     }
 }
 
-// Pulse i's arrivals (sorted, times its energy factor) and events appended to the batch's; true
-// if a hit was closer than the receiver's minimum range.
+// Pulse i's arrivals (sorted, times its energy factor) and events appended to the batch's, the
+// pixel armed from `armed_from` ns into its gate; true if a hit was closer than the receiver's
+// minimum range.
 bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
                                const std::vector<double>& weighted_k, std::uint32_t i,
-                               ShadeScratch& scratch) const {
+                               double armed_from, ShadeScratch& scratch) const {
     const GeigerGate& gate = *geiger_;
     GeigerBatch& b = scratch.geiger;
     auto& arrivals = scratch.arrivals;
@@ -208,10 +240,10 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     // none, and the rate need not be built. The margin covers the rate's rounding.
     if (level > (noise_per_bin * double(gate.bins) + expected) * (1.0 + 1e-9)) {
         scratch.events.clear();
+        if (gate.free_running) b.own_end.push_back(armed_from);
     } else {
         event_rate(arrivals, noise_per_bin, scratch);
-        physics::geiger_events(scratch.rate, pixel, rng, level,
-                               std::size_t(sensor_.geiger.max_events), scratch.events);
+        draw_events(level, armed_from, pixel, rng, scratch);
     }
     b.events.insert(b.events.end(), scratch.events.begin(), scratch.events.end());
     if (!scratch.events.empty())  // (read for its events' surfaces only)
@@ -220,6 +252,19 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     b.arrival_at.push_back(b.arrivals.size());
     b.expected.push_back(expected);
     return close;
+}
+
+// The pixel's events from its rate; a free-running pixel's re-arming time into b.own_end.
+void PulseShader::draw_events(double level, double armed_from, const physics::GeigerPixel& pixel,
+                              core::PulseRng& rng, ShadeScratch& scratch) const {
+    const auto max = std::size_t(sensor_.geiger.max_events);
+    if (!geiger_->free_running) {
+        physics::geiger_events(scratch.rate, pixel, rng, level, max, scratch.events);
+        return;
+    }
+    const physics::GeigerWindow window{armed_from, geiger_->report_ns, max};
+    scratch.geiger.own_end.push_back(
+        physics::geiger_events(scratch.rate, pixel, rng, level, window, scratch.events));
 }
 
 // Crosstalk over the frame of pulses [i0, i0 + N), its events appended to b.after per pixel in
@@ -248,6 +293,9 @@ void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b)
     b.made.clear();
     b.kept.clear();
     b.armed.assign(n, -std::numeric_limits<double>::infinity());
+    if (geiger_->free_running)  // dead from the previous frame (ns into this window)
+        for (std::uint32_t p = 0; p < n; ++p)
+            if (const double d = carried(g.first + i0 + p, b); d > 0.0) b.armed[p] = d;
     b.count.assign(n, 0);
     b.rng_of.assign(n, kNoRng);
     b.rngs.clear();

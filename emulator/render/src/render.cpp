@@ -38,6 +38,7 @@ struct WorkerBuffers {
 // between threads) spans several, so threads wake less often.
 void render_chunk(const Run& run, std::uint64_t c, WorkerBuffers& w, ChunkResult& result) {
     StageClock clock;
+    run.shader.begin_chunk(run.plan.first(c), w.scratch);
     run.builder.for_each_batch(run.plan.first(c), run.plan.size(c), w.g, [&](RayBatch& g) {
         clock.lap(StageClock::kRays);
         run.shader.trace(g, w.hits);
@@ -51,6 +52,7 @@ void render_chunk(const Run& run, std::uint64_t c, WorkerBuffers& w, ChunkResult
             clock.lap(StageClock::kOutput);
         }
     });
+    run.shader.end_chunk(run.plan.first(c) + run.plan.size(c), w.scratch);
     clock.add_to(result.shaded.stats);
 }
 
@@ -67,6 +69,7 @@ void work(const Run& run) {
             render_chunk(run, c, w, *result);
         } catch (...) {
             run.queue.fail(std::current_exception());
+            run.shader.abort_chunks();
             return;
         }
         run.queue.put(c, std::move(result));

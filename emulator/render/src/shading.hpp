@@ -7,11 +7,13 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "carry_chain.hpp"
 #include "mirage/core/point.hpp"
 #include "mirage/physics/geiger.hpp"
 #include "mirage/physics/linear_detector.hpp"
@@ -162,6 +164,13 @@ struct GeigerBatch {
     std::vector<core::PulseRng> rngs;
     std::vector<physics::GeigerEvent> after;
     std::vector<std::size_t> after_at;
+    // A free-running array (geiger_carry.cpp): per pixel-pulse of the frame being drawn, when its
+    // own draw re-arms it; per pixel, the dead time carried into the window of frame
+    // carry_frame[p] (ns into it; ≤ 0: armed at its start).
+    std::vector<double> own_end;
+    std::vector<double> carry;
+    std::vector<std::uint64_t> carry_frame;
+    std::uint64_t take_frame = 0;  // > 0: the carry into this frame is still to come (CarryChain)
 };
 
 // PendingReturn::hit of an echo from the atmosphere itself (no surface).
@@ -258,6 +267,14 @@ class PulseShader {
     void shade(const RayBatch& g, std::vector<Hit>& hits,
                const std::vector<sensor::SubRay>& subrays, ShadeScratch& scratch,
                ShadedPoints& out) const;
+    // render()'s chunks of a free-running Geiger-mode array: before the chunk starting at pulse
+    // `first`, the dead time carried into it (waits for the worker of the chunk before); after
+    // the chunk ending before pulse `next`, the dead time it carries on. No-ops otherwise, and a
+    // caller that draws frames in order on one scratch needs neither.
+    void begin_chunk(std::uint64_t first, ShadeScratch& scratch) const;
+    void end_chunk(std::uint64_t next, ShadeScratch& scratch) const;
+    // A worker failed: wakes the ones waiting in begin_chunk().
+    void abort_chunks() const;
     // Pulse i's arrivals (docs/time-resolved.md §2): one per sub-ray hit within the receiver's
     // ranges, expected photo-electrons and two-way delay, unsorted. Returns whether a sub-ray hit
     // closer than the minimum range.
@@ -339,6 +356,10 @@ class PulseShader {
     struct GeigerGate {
         double open_ns = 0, bin_ns = 1;  // the gate opens this long after emission
         std::size_t bins = 0;
+        // Free-running: the rate's bins run to the next pulse's window (`period_ns` on), and
+        // detections before report_ns (the range gate) are reported.
+        bool free_running = false;
+        double period_ns = 0, report_ns = 0;
         physics::GeigerPixel pixel;
         double dark_per_ns = 0;
         double shape_lo = 0;  // where the pulse's support starts, ns from its centroid
@@ -352,8 +373,14 @@ class PulseShader {
                         const std::vector<double>& weighted_k, ShadeScratch& scratch,
                         ShadedPoints& out) const;
     bool pixel_events(const RayBatch& g, const std::vector<Hit>& hits, const double* terms,
-                      const std::vector<double>& weighted_k, std::uint32_t i,
+                      const std::vector<double>& weighted_k, std::uint32_t i, double armed_from,
                       ShadeScratch& scratch) const;
+    void draw_events(double level, double armed_from, const physics::GeigerPixel& pixel,
+                     core::PulseRng& rng, ShadeScratch& scratch) const;
+    double carried(std::uint64_t pulse, const GeigerBatch& b) const;
+    void take_carry(GeigerBatch& b) const;
+    void carry_on(std::uint64_t first, std::uint32_t i0, std::uint32_t end, bool crosstalk,
+                  GeigerBatch& b) const;
     void crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const;
     std::array<std::uint32_t, 4> crosstalk_hits(std::uint64_t frame_pulse, std::uint32_t p,
                                                 std::uint32_t n, GeigerBatch& b) const;
@@ -473,7 +500,8 @@ class PulseShader {
     // The linear-mode detector, when the sensor has one (docs/time-resolved.md §7).
     std::optional<physics::LinearDetector> linear_;
     std::optional<physics::WaveformSynth> synth_;
-    std::optional<GeigerGate> geiger_;  // the Geiger-mode detector, when the sensor has one
+    std::optional<GeigerGate> geiger_;   // the Geiger-mode detector, when the sensor has one
+    std::unique_ptr<CarryChain> chain_;  // a free-running one's, between render()'s chunks
     // An array's pixel-pulses: each pixel's share of the laser's energy (empty: no array).
     std::span<const float> share_;
     double sigma_p_ns_ = 0;  // the pulse's RMS width

@@ -152,11 +152,12 @@ std::string describe(const SensorModel& m) {
         out += fmt::format(
             "  detector: Geiger-mode, PDE {:.3f}, gate {:.1f}-{:.1f} ns in {:.3f} ns bins, dark "
             "{:.3f} kHz, dead time {:.1f} ns ({}), jitter {:.3f} ns, afterpulses {:.4f} after "
-            "{:.1f} ns, up to {} event(s) per gate\n",
+            "{:.1f} ns, up to {} event(s) per gate, {}\n",
             rx.quantum_efficiency, 2e9 * rx.min_range_m / 299'792'458.0,
             2e9 * rx.max_range_m / 299'792'458.0, d.bin_ns, d.dark_count_rate_hz * 1e-3,
             d.dead_time_ns, d.paralyzable ? "paralyzable" : "non-paralyzable", d.jitter_ns,
-            d.afterpulse_probability, d.afterpulse_delay_ns, d.max_events);
+            d.afterpulse_probability, d.afterpulse_delay_ns, d.max_events,
+            d.free_running ? "free-running (dead time carried across pulses)" : "gated");
     } else {
         out += "  detector: discrete (sub-ray hits merged c*tau/2 apart)\n";
     }

@@ -305,11 +305,13 @@ void read_geiger(const Reader& r, const YAML::Node& n, SensorModel& m) {
     if (n["dark_count_rate_khz"])
         p.dark_count_rate_hz =
             1e3 * r.number(n["dark_count_rate_khz"], "detector.dark_count_rate_khz", 0, 1e6);
-    if (n["paralyzable"]) {
-        const std::string v = r.text(n["paralyzable"], "detector.paralyzable");
-        if (v != "true" && v != "false")
-            r.fail("detector.paralyzable", "'" + v + "' is not true or false");
-        p.paralyzable = v == "true";
+    for (const auto& [key, flag] :
+         {std::pair{"paralyzable", &p.paralyzable}, std::pair{"free_running", &p.free_running}}) {
+        if (!n[key]) continue;
+        const std::string path = join_path("detector", key);
+        const std::string v = r.text(n[key], path);
+        if (v != "true" && v != "false") r.fail(path, "'" + v + "' is not true or false");
+        *flag = v == "true";
     }
     if (n["max_events"])
         p.max_events = static_cast<int>(r.integer(n["max_events"], "detector.max_events", 1, 15));
@@ -324,7 +326,7 @@ void check_detector_keys(const Reader& r, const YAML::Node& n, DetectorKind kind
     static const char* const geiger[] = {
         "bin_ns",    "dark_count_rate_khz",    "dead_time_ns",        "paralyzable",
         "jitter_ns", "afterpulse_probability", "afterpulse_delay_ns", "max_events",
-        "pde",       "crosstalk_probability"};
+        "pde",       "crosstalk_probability",  "free_running"};
     for (const char* key : linear)
         if (n[key] && kind != DetectorKind::Linear)
             r.fail(join_path("detector", key), "only with detector.type: linear");
@@ -340,9 +342,9 @@ std::string what_scan(const ScanPattern& scan) {
     return "a " + scan.kind() + " sensor";
 }
 
-// A Geiger-mode pixel is armed once per laser pulse (docs/photon-counting.md §2): its gate must
-// close before the next pulse fires, and a pixel that fired must be armed again by the next gate
-// (dead time carried across pulses, a free-running array, is not modelled).
+// A gated Geiger-mode pixel is armed once per laser pulse (docs/photon-counting.md §2): its gate
+// must close before the next pulse fires, and a pixel that fired must be armed again by the next
+// gate. A free-running one (an array only) carries its dead time into the next pulse's window.
 void check_geiger_timing(const Reader& r, const SensorModel& m) {
     if (m.detector != DetectorKind::Geiger || !m.scan) return;
     constexpr double kC = 299'792'458.0;
@@ -353,13 +355,19 @@ void check_geiger_timing(const Reader& r, const SensorModel& m) {
         r.fail("receiver.max_range_m", "the gate closes " + num(close_ns * 1e-3) +
                                            " µs after the pulse, past the next one (every " +
                                            num(period_ns * 1e-3) + " µs)");
+    if (m.geiger.free_running) {
+        if (!m.array.on())
+            r.fail("detector.free_running", "only for an array (a sensor with `array:`)");
+        return;
+    }
     if (close_ns + m.geiger.dead_time_ns > period_ns + open_ns)
         r.fail("detector.dead_time_ns",
                "a pixel firing at the gate's close would still be dead when the next gate opens "
                "(" +
                    num(close_ns * 1e-3) + " + " + num(m.geiger.dead_time_ns * 1e-3) + " > " +
                    num(period_ns * 1e-3) + " + " + num(open_ns * 1e-3) +
-                   " µs); free-running arrays are not modelled");
+                   " µs); a gated array re-arms every pixel at its gate (detector.free_running: "
+                   "true carries the dead time over)");
 }
 
 // `detector:`: `type: discrete` (default) or `linear` with the digitiser and APD settings
@@ -388,7 +396,8 @@ void read_detector(const Reader& r, const YAML::Node& n, SensorModel& m) {
                  "afterpulse_delay_ns",
                  "max_events",
                  "pde",
-                 "crosstalk_probability"});
+                 "crosstalk_probability",
+                 "free_running"});
     if (n["type"]) {
         const std::string t = r.text(n["type"], "detector.type");
         if (t == "discrete")

@@ -322,3 +322,87 @@ TEST(Geiger, events_from_a_drawn_first_level_equal_the_plain_draw) {
 }
 
 }  // namespace
+
+namespace free_running {
+
+using mirage::physics::GeigerWindow;
+
+// Windows of a free-running pixel chained one period apart, each armed from where the one before
+// left it (docs/photon-counting.md §2.1): under a constant rate r the count rate is the
+// dead-time law's, r/(1 + rτ) or r·e^(−rτ), within 1 %, even with a dead time longer than the
+// period (10 MHz, τ = 50 ns, windows of 40 ns, 250 000 of them). Re-armed at every window
+// instead, the count is far above the law.
+TEST(Geiger, a_free_running_pixel_carries_its_dead_time_across_windows) {
+    const double r = 0.01, period = 40.0;  // per ns; ns
+    const EventRate rate(std::vector<double>(160, 0.0), r * 0.25, 0.25);
+    const std::uint64_t windows = 250'000;
+    for (const bool paralyzable : {false, true}) {
+        const GeigerPixel pixel{{50.0, paralyzable}};
+        std::uint64_t carried = 0, rearmed = 0;
+        double armed_from = 0;
+        std::vector<GeigerEvent> t;
+        for (std::uint64_t w = 0; w < windows; ++w) {
+            PulseRng rng(kSeed, w, kStream);
+            const double level = mirage::physics::first_level(rng);
+            const double end =
+                geiger_events(rate, pixel, rng, level, GeigerWindow{armed_from, period, 15}, t);
+            for (const auto& e : t) ASSERT_GE(e.t_ns, armed_from);
+            carried += t.size();
+            armed_from = end - period;
+            PulseRng again(kSeed, w, kStream);
+            geiger_events(rate, pixel, again, 15, t);
+            rearmed += t.size();
+        }
+        const double span = double(windows) * period;
+        const double want = mirage::physics::observed_rate(r, pixel.dead);
+        const double got = double(carried) / span;
+        std::printf(
+            "%s, tau 50 ns over 40 ns windows at 10 MHz: carried %.4f MHz, law %.4f MHz, "
+            "re-armed every window %.4f MHz\n",
+            paralyzable ? "paralyzable" : "non-paralyzable", got * 1e3, want * 1e3,
+            double(rearmed) / span * 1e3);
+        EXPECT_NEAR(got / want, 1.0, 0.01);
+        EXPECT_GT(double(rearmed) / span / want, 1.2);
+    }
+}
+
+// Tracking past the report: the window reports its detections before report_ns only (at most
+// max_events), draws the same ones as a gated pixel that reports them all, and returns the last
+// one's re-arming time.
+TEST(Geiger, a_free_running_window_reports_before_its_close_and_tracks_to_its_end) {
+    const EventRate rate(std::vector<double>(4000, 0.0), 0.02, 0.25);  // 80 MHz over 1 µs
+    const GeigerPixel pixel{{30.0, false}};
+    for (std::uint64_t g = 0; g < 200; ++g) {
+        std::vector<GeigerEvent> all, part;
+        PulseRng a(kSeed, g, kStream), b(kSeed, g, kStream);
+        geiger_events(rate, pixel, a, 1000, all);
+        const double level = mirage::physics::first_level(b);
+        const double end = geiger_events(rate, pixel, b, level, GeigerWindow{0, 500, 3}, part);
+        ASSERT_GT(all.size(), 3u);
+        std::size_t before = 0;
+        while (before < all.size() && all[before].t_ns < 500) ++before;
+        ASSERT_EQ(part.size(), std::min<std::size_t>(before, 3));
+        for (std::size_t k = 0; k < part.size(); ++k) ASSERT_EQ(part[k].t_ns, all[k].t_ns);
+        ASSERT_DOUBLE_EQ(end, all.back().t_ns + 30.0);
+    }
+}
+
+// A window opening dead past its end takes nothing; paralyzable, its primary events keep the
+// pixel dead beyond where it was (re-arming later than it opened dead).
+TEST(Geiger, a_window_that_opens_dead_past_its_end_only_extends_a_paralyzable_dead_time) {
+    const EventRate rate(std::vector<double>(400, 0.0), 0.5, 0.25);  // 2 per ns
+    std::vector<GeigerEvent> t;
+    PulseRng rng(kSeed, 1, kStream);
+    const double level = mirage::physics::first_level(rng);
+    EXPECT_EQ(geiger_events(rate, {{200.0, false}}, rng, level, GeigerWindow{150, 100, 4}, t),
+              150.0);
+    EXPECT_TRUE(t.empty());
+    PulseRng again(kSeed, 1, kStream);
+    const double end =
+        geiger_events(rate, {{200.0, true}}, again, mirage::physics::first_level(again),
+                      GeigerWindow{150, 100, 4}, t);
+    EXPECT_TRUE(t.empty());
+    EXPECT_GT(end, 299.0);  // its last primary event lies within 1 ns of the window's end
+}
+
+}  // namespace free_running

@@ -18,9 +18,10 @@ namespace {
 constexpr double kRange = 100.0;
 
 // A 16 × 8 flash array, 0.5 mrad pixels, fill factor 0.8, staring along +x at a plane 100 m
-// away; one laser pulse per µs.
-sensor::SensorModel flash_array(sensor::BeamProfile laser, int sub_rays) {
-    auto s = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
+// away; one laser pulse per µs unless told.
+sensor::SensorModel flash_array(sensor::BeamProfile laser, int sub_rays,
+                                std::int64_t period_ns = 1000) {
+    auto s = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, period_ns));
     s.beam.profile = laser;
     s.beam.divergence_rad = 8e-3;
     s.beam.sub_rays = sub_rays;
@@ -208,6 +209,58 @@ TEST(PipelineArray, crosstalk_fires_neighbours_as_configured) {
             EXPECT_EQ(crosstalk, 0u);
         else
             EXPECT_NEAR(double(crosstalk) / neighbours / px, 1.0, 0.05);
+    }
+}
+
+// A free-running array in the dark (docs/photon-counting.md §2.1): dark counts only, r = 1 per
+// 1.5 µs per pixel, a dead time of 1.5 µs, laser pulses 2 µs apart and the gate from 1 to 280 m
+// (W = 1.861 µs of each 2 µs reported). In the steady state a pixel counts r/(1 + rτ)
+// (non-paralyzable) or r·e^(−rτ) (paralyzable) at any moment, so a window reports W times that:
+// within 1 % over 128 pixels × 1990 windows (the first 10 skipped). Rendered on 2 threads in
+// chunks of 3 frames, so the dead time crosses chunks and threads; the same on 1 thread.
+TEST(PipelineArray, a_free_running_array_carries_its_dead_time_across_pulses) {
+    const auto scene = plane_scene(100.0, plane_frame(kRange, 0.0), 0.5);
+    const std::uint64_t frames = 2000, skip = 10;
+    for (const bool paralyzable : {false, true}) {
+        auto s = flash_array(sensor::BeamProfile::TopHat, 1, 2000);
+        s.beam.pulse_energy_j = 1e-18;
+        s.beam.pulse_width_s = 1e-9;
+        s.detector = sensor::DetectorKind::Geiger;
+        s.receiver.min_range_m = 1;
+        s.receiver.max_range_m = 280;
+        s.geiger.dark_count_rate_hz = 1e9 / 1500;
+        s.geiger.dead_time_ns = 1500;
+        s.geiger.paralyzable = paralyzable;
+        s.geiger.max_events = 4;
+        s.geiger.free_running = true;
+        std::vector<core::PointRecord> runs[2];
+        for (const int threads : {2, 1}) {
+            render::EmbreeRenderer rr(scene);
+            render::RenderOptions o;
+            o.noise = true;
+            o.threads = threads;
+            o.chunk_pulses = 3 * 128;
+            o.duration = core::Nanos(static_cast<std::int64_t>(frames) * 2000);
+            VectorSink sink;
+            render::render({scene, rr, s, core::Trajectory::fixed({}), {}, {}, o}, sink);
+            runs[threads - 1] = sink.points;
+        }
+        ASSERT_EQ(runs[0].size(), runs[1].size());
+        for (std::size_t k = 0; k < runs[0].size(); ++k)
+            ASSERT_TRUE(runs[0][k].range_m == runs[1][k].range_m &&
+                        runs[0][k].pixel == runs[1][k].pixel)
+                << k;
+        std::uint64_t counted = 0;
+        for (const auto& pt : runs[1]) counted += pt.pulse / 128 >= skip;
+        const double r = 1.0 / 1500, tau = 1500;
+        const double window = 2 * (280 - 1) / physics::kSpeedOfLightMPerS * 1e9;
+        const double want = window * (paralyzable ? r * std::exp(-r * tau) : r / (1 + r * tau));
+        const double got = double(counted) / double(128 * (frames - skip));
+        std::printf(
+            "free-running %s array, dead time 1.5 us, pulses 2 us apart: %.4f events per window, "
+            "steady-state law %.4f (%+.2f %%)\n",
+            paralyzable ? "paralyzable" : "non-paralyzable", got, want, 100 * (got / want - 1));
+        EXPECT_NEAR(got / want, 1.0, 0.01);
     }
 }
 

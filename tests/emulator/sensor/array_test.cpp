@@ -142,6 +142,22 @@ TEST(Array, yaml_errors_name_the_key) {
           "(every 50 µs)");
     fails("base: gmapd-32x32\ndetector: {dead_time_ns: 48000}\n",
           "detector.dead_time_ns: a pixel firing at the gate's close would still be dead");
+    fails("base: vlp16\ndetector: {type: geiger, free_running: true}\n",
+          "detector.free_running: only for an array");
+    fails("base: gmapd-32x32\ndetector: {free_running: perhaps}\n",
+          "detector.free_running: 'perhaps' is not true or false");
+}
+
+// A free-running array carries its dead time across pulses: one longer than the gap between
+// gates, or than the pulse period, is accepted (docs/photon-counting.md §2.1).
+TEST(Array, a_free_running_array_takes_a_dead_time_past_the_next_gate) {
+    const auto m = load_sensor_yaml_text(
+        "base: gmapd-32x32\ndetector: {dead_time_ns: 60000, free_running: true}\n", "f.yaml");
+    EXPECT_TRUE(m.geiger.free_running);
+    EXPECT_EQ(m.geiger.dead_time_ns, 60000);
+    EXPECT_NE(describe(m).find("free-running (dead time carried across pulses)"),
+              std::string::npos);
+    EXPECT_FALSE(preset("gmapd-32x32").geiger.free_running);
 }
 
 TEST(Array, geiger_detector_keys) {

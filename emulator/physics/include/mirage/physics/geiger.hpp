@@ -127,6 +127,20 @@ double first_level(core::PulseRng& rng);
 void geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
                    double level, std::size_t max_events, std::vector<GeigerEvent>& out);
 
+// A free-running pixel's window (docs/photon-counting.md §2.1): its rate runs to the next pulse's
+// window, the pixel is armed from `armed_from_ns` (a dead time carried from the previous pulse),
+// and only detections before `report_ns` (the range gate's close) are reported, at most
+// max_events; the later ones still make it dead, so every detection is drawn.
+struct GeigerWindow {
+    double armed_from_ns = 0;
+    double report_ns = 0;
+    std::size_t max_events = 1;
+};
+// The window's reported detections into `out`; returns when the pixel is armed again after its
+// last detection (paralyzable: after the last primary event), or armed_from_ns if none.
+double geiger_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseRng& rng,
+                     double level, const GeigerWindow& window, std::vector<GeigerEvent>& out);
+
 // Coates' correction (Coates 1968): from first-event counts h_k over `gates` gates, the expected
 // events per bin n̂_k = −ln(1 − h_k/(gates − Σ_{j<k} h_j)); NaN where no gate was armed.
 std::vector<double> coates(std::span<const std::uint64_t> histogram, std::uint64_t gates);

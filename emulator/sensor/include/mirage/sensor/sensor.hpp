@@ -141,6 +141,10 @@ struct GeigerDetectorParams {
     // the same time, if armed (docs/photon-counting.md §2).
     double crosstalk_probability = 0.0;
     int max_events = 1;  // per pixel and gate (a framed array reports one)
+    // Armed between gates too (an array only): a detection late in one pulse's window keeps the
+    // pixel dead into the next one's (docs/photon-counting.md §2.1). Gated (false): every gate
+    // opens armed.
+    bool free_running = false;
 };
 
 // The linear-mode detector's settings (sensor YAML `detector:`; physics::LinearDetector checks
