@@ -3,8 +3,9 @@
 #include "mirage/dis/dead_reckoning.hpp"
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <cmath>
+
+#include "mirage/core/pose.hpp"
 
 namespace mirage::dis {
 namespace {
@@ -40,16 +41,15 @@ Coefficients coefficients(double w, double t) {
 
 }  // namespace
 
+// DIS's ψ, θ, φ are Mirage's yaw, pitch and roll about ECEF axes (core/pose.hpp), whose inverse
+// also holds at θ = ±π/2, where a platform level at the equator or the poles sits.
 Eigen::Matrix3d body_to_ecef(double psi, double theta, double phi) {
-    return (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) *
-            Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
-            Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX()))
-        .toRotationMatrix();
+    return core::quaternion_from_rpy(phi, theta, psi).toRotationMatrix();
 }
 
 Eigen::Vector3d euler_of(const Eigen::Matrix3d& r) {
-    const double theta = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
-    return {std::atan2(r(1, 0), r(0, 0)), theta, std::atan2(r(2, 1), r(2, 2))};
+    const Eigen::Vector3d rpy = core::rpy_from_quaternion(Eigen::Quaterniond(r));
+    return {rpy.z(), rpy.y(), rpy.x()};
 }
 
 Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& omega, double t) {

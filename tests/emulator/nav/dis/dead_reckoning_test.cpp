@@ -70,6 +70,8 @@ TEST(DisDeadReckoning, euler_angles_turn_the_body_into_ecef) {
     EXPECT_LT((r.col(0) - Vector3d::UnitZ()).norm(), 1e-15);
     EXPECT_LT((r.col(1) - Vector3d::UnitY()).norm(), 1e-15);
     EXPECT_LT((r.col(2) + Vector3d::UnitX()).norm(), 1e-15);
+    const Vector3d e = euler_of(r);  // at θ = −π/2 ψ and φ share an axis: the matrix must return
+    EXPECT_LT((body_to_ecef(e.x(), e.y(), e.z()) - r).norm(), 1e-12);
     for (const Vector3d& a : {Vector3d(0.3, -0.2, 1.1), Vector3d(-2.9, 1.2, -3.0)})
         EXPECT_LT((euler_of(body_to_ecef(a.x(), a.y(), a.z())) - a).norm(), 1e-12);
 }

@@ -9,7 +9,7 @@
 namespace mirage::dis {
 
 // Body-to-ECEF rotation of DIS Euler angles: Rz(ψ)·Ry(θ)·Rx(φ) (body x forward, y right, z
-// down), and back (θ in [−π/2, π/2]).
+// down), and back (θ in [−π/2, π/2], ψ and φ in (−π, π]).
 Eigen::Matrix3d body_to_ecef(double psi, double theta, double phi);
 Eigen::Vector3d euler_of(const Eigen::Matrix3d& body_to_ecef);
 
