@@ -75,8 +75,12 @@ Kinematics dead_reckon(const EntityState& s, double dt) {
     const Eigen::Matrix3d r0 = body_to_ecef(s.psi, s.theta, s.phi);
     k.location = s.location;
     k.body_to_ecef = r0;
+    k.velocity = s.velocity.cast<double>();
     const int alg = s.dr_algorithm;
-    if (alg <= 1 || alg > 9) return k;  // other, static
+    if (alg <= 1 || alg > 9) {  // other, static
+        k.velocity.setZero();
+        return k;
+    }
     const Eigen::Vector3d v = s.velocity.cast<double>();
     const Eigen::Vector3d acc = s.dr_acceleration.cast<double>();
     const Eigen::Vector3d w = s.dr_angular_velocity.cast<double>();
@@ -84,12 +88,18 @@ Kinematics dead_reckon(const EntityState& s, double dt) {
     const bool accelerating = alg == 4 || alg == 5 || alg == 8 || alg == 9;
     if (alg <= 5) {  // world frame
         k.location += v * dt;
-        if (accelerating) k.location += 0.5 * acc * dt * dt;
+        if (accelerating) {
+            k.location += 0.5 * acc * dt * dt;
+            k.velocity += acc * dt;
+        }
     } else {  // body frame: the body-axes velocity and acceleration turn with the body
         const Eigen::Vector3d wb = rotating ? w : Eigen::Vector3d::Zero();
-        Eigen::Vector3d d = integral_r1(wb, dt) * (r0.transpose() * v);
+        const Eigen::Vector3d vb = r0.transpose() * v;
+        Eigen::Vector3d d = integral_r1(wb, dt) * vb;
         if (accelerating) d += integral_r2(wb, dt) * acc;
         k.location += r0 * d;
+        k.velocity =
+            r0 * rotation_exp(wb, dt) * (accelerating ? Eigen::Vector3d(vb + acc * dt) : vb);
     }
     if (rotating) k.body_to_ecef = r0 * rotation_exp(w, dt);
     return k;

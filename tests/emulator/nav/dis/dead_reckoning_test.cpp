@@ -11,6 +11,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "dis_fixtures.hpp"
+
 namespace mirage::dis {
 namespace {
 
@@ -74,19 +76,6 @@ TEST(DisDeadReckoning, euler_angles_turn_the_body_into_ecef) {
     EXPECT_LT((body_to_ecef(e.x(), e.y(), e.z()) - r).norm(), 1e-12);
     for (const Vector3d& a : {Vector3d(0.3, -0.2, 1.1), Vector3d(-2.9, 1.2, -3.0)})
         EXPECT_LT((euler_of(body_to_ecef(a.x(), a.y(), a.z())) - a).norm(), 1e-12);
-}
-
-EntityState moving(std::uint8_t algorithm) {
-    EntityState s;
-    s.location = {6'378'137.0, 0, 0};
-    s.psi = 0.4f;
-    s.theta = -1.2f;
-    s.phi = 0.1f;
-    s.velocity = {3.0f, -4.0f, 12.0f};
-    s.dr_acceleration = {0.5f, -0.25f, 1.0f};
-    s.dr_angular_velocity = {0.05f, -0.1f, 0.5f};
-    s.dr_algorithm = algorithm;
-    return s;
 }
 
 // World frame: P0 + V·Δt (FPW, RPW) and + ½·A·Δt² (RVW, FVW), exactly; the F ones keep the

@@ -9,7 +9,7 @@
 namespace mirage::nav {
 
 // Which protocol produced a sample.
-enum class Protocol : std::uint8_t { Nmea, Novatel, Ncom, OxtsCan, SbgCan };
+enum class Protocol : std::uint8_t { Nmea, Novatel, Ncom, OxtsCan, SbgCan, Dis };
 
 // Fix quality mapped from each protocol's own enum.
 enum class FixQuality : std::uint8_t {

@@ -22,6 +22,7 @@ Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& omega, double t);
 
 struct Kinematics {
     Eigen::Vector3d location{Eigen::Vector3d::Zero()};  // ECEF, m
+    Eigen::Vector3d velocity{Eigen::Vector3d::Zero()};  // ECEF axes, m/s (the position's rate)
     Eigen::Matrix3d body_to_ecef{Eigen::Matrix3d::Identity()};
 };
 
@@ -29,6 +30,7 @@ struct Kinematics {
 // 3 RPW, 4 RVW, 5 FVW: P0 + V·Δt (+ ½·A·Δt² for the V ones); body frame 6 FPB, 7 RPB, 8 RVB,
 // 9 FVB: P0 + R0·(R1·Vb + R2·Ab), Vb = R0ᵀ·V, Ab the body-axes acceleration (V ones). The R
 // (rotating) ones turn the attitude as R0·exp([ω]×·Δt), ω in body axes; the F ones keep it.
+// The velocity is the position's rate: V (+ A·Δt), or R0·exp([ω]×Δt)·(Vb + Ab·Δt) in body frame.
 Kinematics dead_reckon(const EntityState& s, double dt);
 
 }  // namespace mirage::dis
