@@ -38,6 +38,8 @@ void PulseShader::init_geiger() {
     g.bins = static_cast<std::size_t>(bins);
     g.report_ns = std::numeric_limits<double>::infinity();
     if (p.free_running) {  // to the bin: the next window opens one period on
+        if (!sensor_.array.on())
+            throw ConfigError(source + ": detector.free_running: only for an array");
         g.free_running = true;
         g.period_ns = 1e9 * double(sensor_.scan->group_size()) / sensor_.scan->pulse_rate_hz();
         g.report_ns = double(g.bins) * g.bin_ns;
