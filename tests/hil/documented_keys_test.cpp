@@ -16,6 +16,12 @@
 #include "cli_run.hpp"
 #include "test_paths.hpp"
 
+// g++ 12 reports -Warray-bounds and -Wstringop-overflow falsely in std::string's concatenation of a
+// literal and a temporary once cases() holds this many strings (GCC bug 105651): the strings are
+// ordinary.
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#pragma GCC diagnostic ignored "-Wstringop-overflow"
+
 namespace mirage::test {
 namespace {
 
@@ -93,6 +99,9 @@ std::string array(const std::string& settings) {
     return kVlp16 + "array: {columns: 2, rows: 2, " + settings + "}\n";
 }
 const std::string kArrayRun = "--trajectory static:0,0,1.5 --duration 0.01";
+// The ALIRT-like array with several noise events a gate (free-running takes a fixed pulse rate).
+const std::string kGmapdMany =
+    "base: gmapd-32x32\ndetector:\n  max_events: 3\n  dark_count_rate_khz: 20000\n";
 
 std::vector<KeyCase> cases() {
     const std::string geo = "georef: {epsg: 32632, anchor: [500000, 5000000, 200]}\n";
@@ -237,8 +246,8 @@ std::vector<KeyCase> cases() {
         {"detector.crosstalk_probability", "", "", geiger(kMany) + "array: {columns: 2, rows: 2}\n",
          geiger(kMany + ", crosstalk_probability: 0.5") + "array: {columns: 2, rows: 2}\n",
          kArrayRun},
-        {"detector.free_running", "", "", geiger(kMany) + "array: {columns: 2, rows: 2}\n",
-         geiger(kMany + ", free_running: true") + "array: {columns: 2, rows: 2}\n", kArrayRun},
+        {"detector.free_running", "", "", kGmapdMany, kGmapdMany + "  free_running: true\n",
+         "--trajectory static:0,0,1200 --duration 0.002"},
         {"array.columns", "", "", kArray, kVlp16 + "array: {columns: 3, rows: 2}\n", kArrayRun},
         {"array.rows", "", "", kArray, kVlp16 + "array: {columns: 2, rows: 3}\n", kArrayRun},
         {"array.pitch_um", "", "", kArray, array("pitch_um: 200"), kArrayRun},

@@ -43,7 +43,11 @@ void PulseShader::init_geiger() {
         g.free_running = true;
         g.period_ns = 1e9 * double(sensor_.scan->group_size()) / sensor_.scan->pulse_rate_hz();
         g.report_ns = double(g.bins) * g.bin_ns;
-        g.bins = std::max(g.bins, static_cast<std::size_t>(g.period_ns / g.bin_ns));
+        const double period_bins = std::floor(g.period_ns / g.bin_ns);
+        if (!(period_bins < 4e9))
+            throw ConfigError(source + ": detector.bin_ns: " + std::to_string(p.bin_ns) +
+                              " ns cuts the pulse period into too many bins");
+        g.bins = std::max(g.bins, static_cast<std::size_t>(period_bins));
         chain_ = std::make_unique<CarryChain>();
     }
     g.pixel = {{p.dead_time_ns, p.paralyzable},

@@ -358,6 +358,13 @@ void check_geiger_timing(const Reader& r, const SensorModel& m) {
     if (m.geiger.free_running) {
         if (!m.array.on())
             r.fail("detector.free_running", "only for an array (a sensor with `array:`)");
+        // The carry takes the next window one pulse period on: a spinning head fires its lasers
+        // in bursts with idle time between, not at a fixed period.
+        const ScanPattern* laser = m.scan.get();
+        if (const auto* a = dynamic_cast<const ArrayScan*>(laser)) laser = &a->laser();
+        if (dynamic_cast<const SpinningPattern*>(laser))
+            r.fail("detector.free_running",
+                   "only for a laser firing at a fixed rate (not a spinning sensor)");
         return;
     }
     if (close_ns + m.geiger.dead_time_ns > period_ns + open_ns)

@@ -144,6 +144,9 @@ TEST(Array, yaml_errors_name_the_key) {
           "detector.dead_time_ns: a pixel firing at the gate's close would still be dead");
     fails("base: vlp16\ndetector: {type: geiger, free_running: true}\n",
           "detector.free_running: only for an array");
+    fails(
+        "base: vlp16\ndetector: {type: geiger, free_running: true}\narray: {columns: 2, rows: 2}\n",
+        "detector.free_running: only for a laser firing at a fixed rate");
     fails("base: gmapd-32x32\ndetector: {free_running: perhaps}\n",
           "detector.free_running: 'perhaps' is not true or false");
 }

@@ -18,7 +18,7 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& w) {
 
 // The coefficients of I, Ω and Ω² (Ω = [ω]×, x = |ω|·T): sin x/|ω|, (1 − cos x)/|ω|²,
 // (x − sin x)/|ω|³, (sin x − x·cos x)/|ω|³ and (T²/2 − (cos x + x·sin x − 1)/|ω|²)/|ω|².
-// Below x = 0.1 by their series to x⁶ (the next terms are under 1e-15 of the first), since
+// Below |x| = 0.1 by their series to x⁶ (the next terms are under 3e-14 of the first), since
 // the closed forms lose digits to cancellation there (the last one most, as 1/x⁴).
 struct Coefficients {
     double s, a, b, c, e;
@@ -26,7 +26,7 @@ struct Coefficients {
 
 Coefficients coefficients(double w, double t) {
     const double x = w * t, x2 = x * x;
-    if (x < 0.1) {
+    if (std::abs(x) < 0.1) {  // (Δt may be negative: a PDU newer than the time asked)
         const double t2 = t * t, t3 = t2 * t;
         return {t * (1 - x2 / 6 * (1 - x2 / 20 * (1 - x2 / 42))),
                 t2 * (0.5 - x2 / 24 + x2 * x2 / 720 - x2 * x2 * x2 / 40320),

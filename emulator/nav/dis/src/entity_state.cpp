@@ -136,7 +136,10 @@ Timestamp decode_timestamp(std::uint32_t raw) {
 }
 
 std::uint32_t encode_timestamp(double seconds_past_hour, bool absolute) {
-    const double units = std::floor(std::fmod(seconds_past_hour, 3600.0) / 3600.0 * kUnitsPerHour);
+    if (!std::isfinite(seconds_past_hour)) seconds_past_hour = 0;  // (a caller's bug: no UB)
+    double s = std::fmod(seconds_past_hour, 3600.0);
+    if (s < 0) s += 3600.0;  // −0.5 s is 3 599.5 s past the previous hour
+    const double units = std::floor(s / 3600.0 * kUnitsPerHour);
     const auto u = static_cast<std::uint32_t>(std::clamp(units, 0.0, kUnitsPerHour - 1.0));
     return (u << 1) | (absolute ? 1u : 0u);
 }

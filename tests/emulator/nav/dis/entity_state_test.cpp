@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 namespace mirage::dis {
@@ -148,6 +149,8 @@ TEST(DisEntityState, timestamps_count_the_hour_and_roll_over) {
     EXPECT_TRUE(decode_timestamp(raw).absolute);
     EXPECT_FALSE(decode_timestamp(encode_timestamp(10, false)).absolute);
     EXPECT_NEAR(decode_timestamp(0xFFFFFFFEu).seconds_past_hour, 3600.0, 1e-5);
+    EXPECT_NEAR(decode_timestamp(encode_timestamp(-0.5, false)).seconds_past_hour, 3599.5, 2e-6);
+    EXPECT_EQ(encode_timestamp(std::nan(""), true), 1u);
     EXPECT_DOUBLE_EQ(seconds_between(3599.0, 1.0), 2.0);
     EXPECT_DOUBLE_EQ(seconds_between(1.0, 3599.0), -2.0);
     EXPECT_DOUBLE_EQ(seconds_between(100.0, 100.25), 0.25);

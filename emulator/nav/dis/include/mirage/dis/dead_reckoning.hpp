@@ -14,7 +14,7 @@ Eigen::Matrix3d body_to_ecef(double psi, double theta, double phi);
 Eigen::Vector3d euler_of(const Eigen::Matrix3d& body_to_ecef);
 
 // ∫₀ᵀ exp([ω]×·τ) dτ (R1) and ∫₀ᵀ exp([ω]×·τ)·τ dτ (R2) in closed form, by series below
-// |ω|·T = 1e-3 where the closed form cancels.
+// |ω|·|T| = 0.1 where the closed form cancels; T may be negative.
 Eigen::Matrix3d integral_r1(const Eigen::Vector3d& omega, double t);
 Eigen::Matrix3d integral_r2(const Eigen::Vector3d& omega, double t);
 // exp([ω]×·T) (Rodrigues).

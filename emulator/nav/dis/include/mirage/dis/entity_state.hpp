@@ -50,7 +50,8 @@ struct EntityState {
 // What a datagram was, checked in this order (length, header, ids, fields).
 enum class Status : std::uint8_t {
     Ok,
-    Short,          // under 12 header bytes, or under the length the header states
+    Short,          // under 12 header bytes, or under 144 bytes or the length the header
+                    // states (a PDU cut short however long it claims to be)
     BadLength,      // the header's length is not 144 + 16·N for the PDU's N
     BadVersion,     // protocol version other than 6 or 7
     OtherPdu,       // a valid header of another PDU type or family
@@ -92,7 +93,8 @@ class EntityStateDecoder {
 std::vector<std::uint8_t> encode(const EntityState& s);
 
 // DIS timestamps count 2³¹ units per hour (≈ 1.676 µs) in their top 31 bits; the lowest bit says
-// absolute (1: the sender's clock is synchronised to UTC) or relative.
+// absolute (1: the sender's clock is synchronised to UTC) or relative. Encoding wraps any time
+// into the hour (negative ones too).
 struct Timestamp {
     double seconds_past_hour = 0;
     bool absolute = false;
