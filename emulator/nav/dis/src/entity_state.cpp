@@ -11,30 +11,26 @@
 namespace mirage::dis {
 namespace {
 
+// The unsigned integer of T's size, which big-endian reads and writes shift through.
+template <typename T>
+using Bits = std::conditional_t<sizeof(T) == 2, std::uint16_t,
+                                std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>;
+
 // Big-endian reads and writes at byte offsets (the PDU's layout, docs/dis.md §1).
 template <typename T>
 T get(std::span<const std::uint8_t> b, std::size_t at) {
-    using U = std::conditional_t<sizeof(T) == 2, std::uint16_t,
-                                 std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>;
-    U u = 0;
-    for (std::size_t i = 0; i < sizeof(T); ++i) u = static_cast<U>((u << 8) | b[at + i]);
+    Bits<T> u = 0;
+    for (std::size_t i = 0; i < sizeof(T); ++i) u = static_cast<Bits<T>>((u << 8) | b[at + i]);
     return std::bit_cast<T>(u);
 }
 
 template <typename T>
 void put(std::vector<std::uint8_t>& b, std::size_t at, T value) {
-    using U = std::conditional_t<sizeof(T) == 2, std::uint16_t,
-                                 std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>;
-    auto u = std::bit_cast<U>(value);
+    auto u = std::bit_cast<Bits<T>>(value);
     for (std::size_t i = sizeof(T); i-- > 0;) {
         b[at + i] = static_cast<std::uint8_t>(u & 0xFF);
-        u = static_cast<U>(u >> 8);
+        u = static_cast<Bits<T>>(u >> 8);
     }
-}
-
-template <typename V>
-bool finite(const V& v) {
-    return v.allFinite();
 }
 
 // Locations farther than this from the Earth's centre are not a platform's (the Moon is 3.8e8 m).
@@ -87,9 +83,9 @@ Status EntityStateDecoder::decode(std::span<const std::uint8_t> d, EntityState& 
         return fail(Status::OtherEntity, dis_.other_entity);
     EntityState s;
     read_fields(d, s);
-    const bool ok = finite(s.velocity) && finite(s.location) && finite(s.dr_acceleration) &&
-                    finite(s.dr_angular_velocity) && std::isfinite(s.psi) &&
-                    std::isfinite(s.theta) && std::isfinite(s.phi) &&
+    const bool ok = s.velocity.allFinite() && s.location.allFinite() &&
+                    s.dr_acceleration.allFinite() && s.dr_angular_velocity.allFinite() &&
+                    std::isfinite(s.psi) && std::isfinite(s.theta) && std::isfinite(s.phi) &&
                     s.location.norm() < kMaxLocationM && s.dr_algorithm <= 9;
     if (!ok) return fail(Status::BadField, counters_.invalid_field);
     out = s;
