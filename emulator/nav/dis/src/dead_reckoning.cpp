@@ -94,7 +94,7 @@ Kinematics dead_reckon(const EntityState& s, double dt) {
         }
     } else {  // body frame: the body-axes velocity and acceleration turn with the body
         const Eigen::Vector3d wb = rotating ? w : Eigen::Vector3d::Zero();
-        const Eigen::Vector3d vb = r0.transpose() * v;
+        const Eigen::Vector3d& vb = v;  // body axes for 6-9 (docs/dis.md §1)
         Eigen::Vector3d d = integral_r1(wb, dt) * vb;
         if (accelerating) d += integral_r2(wb, dt) * acc;
         k.location += r0 * d;

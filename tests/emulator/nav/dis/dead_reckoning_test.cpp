@@ -106,7 +106,7 @@ TEST(DisDeadReckoning, a_turning_body_flies_a_circle) {
     s.theta = 0.2f;
     s.phi = -0.3f;
     const Matrix3d r0 = body_to_ecef(s.psi, s.theta, s.phi);
-    s.velocity = (r0 * Vector3d(10, 0, 0)).cast<float>();
+    s.velocity = {10, 0, 0};  // body axes (algorithm 7)
     s.dr_angular_velocity = {0, 0, 0.5f};
     s.dr_algorithm = 7;
     const Kinematics k = dead_reckon(s, 2 * std::numbers::pi);
@@ -128,7 +128,7 @@ TEST(DisDeadReckoning, body_algorithms_match_an_integration_of_the_motion) {
         const bool rotating = alg == 7 || alg == 8, accelerating = alg == 8 || alg == 9;
         const Vector3d w =
             rotating ? Vector3d(s.dr_angular_velocity.cast<double>()) : Vector3d::Zero();
-        const Vector3d vb = r0.transpose() * s.velocity.cast<double>();
+        const Vector3d vb = s.velocity.cast<double>();  // body axes
         const Vector3d ab =
             accelerating ? Vector3d(s.dr_acceleration.cast<double>()) : Vector3d::Zero();
         const auto f = [&](double t) { return Vector3d(r0 * rodrigues(w, t) * (vb + ab * t)); };

@@ -28,7 +28,7 @@ struct Kinematics {
 
 // The PDU's pose `dt` seconds on. Algorithms: 0 (other) and 1 static; world frame 2 FPW,
 // 3 RPW, 4 RVW, 5 FVW: P0 + V·Δt (+ ½·A·Δt² for the V ones); body frame 6 FPB, 7 RPB, 8 RVB,
-// 9 FVB: P0 + R0·(R1·Vb + R2·Ab), Vb = R0ᵀ·V, Ab the body-axes acceleration (V ones). The R
+// 9 FVB: P0 + R0·(R1·Vb + R2·Ab), Vb and Ab the PDU's velocity and acceleration in body axes. The R
 // (rotating) ones turn the attitude as R0·exp([ω]×·Δt), ω in body axes; the F ones keep it.
 // The velocity is the position's rate: V (+ A·Δt), or R0·exp([ω]×Δt)·(Vb + Ab·Δt) in body frame.
 Kinematics dead_reckon(const EntityState& s, double dt);
