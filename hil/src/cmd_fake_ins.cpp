@@ -139,7 +139,8 @@ void register_fake_ins(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--scene", o->job.scene, "Scene whose georeference maps local to WGS84")
         ->capture_default_str();
-    cmd->add_option("--protocol", o->protocol, "nmea, novatel, ncom, oxts-can or sbg-can")
+    cmd->add_option("--protocol", o->protocol,
+                    "nmea, novatel, ncom, oxts-can, sbg-can or dis (entity 1.1.1, exercise 1)")
         ->capture_default_str();
     cmd->add_option("--to", o->to,
                     "pty[:LINK], udp://host:port, tcp is not offered, slcan-pty[:LINK], "
@@ -207,6 +208,9 @@ void register_fake_ins(CLI::App& app) {
             throw ConfigError(
                 "fake-ins: a memory: bus lives in one process; use `mirage live "
                 "--nav oxts-can:memory:x --fake-ins TRAJ`");
+        if (navproto::needs_datagrams(proto) && to.rfind("udp://", 0) != 0)
+            throw ConfigError("fake-ins: " + o->protocol +
+                              " sends UDP datagrams: --to udp://host:port");
         if (to == "pty" || to.rfind("pty:", 0) == 0) {
             if (navproto::is_can(proto))
                 throw ConfigError("fake-ins: CAN protocols need slcan-pty or a bus");

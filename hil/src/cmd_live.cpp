@@ -73,7 +73,8 @@ void register_live(CLI::App& app) {
     cmd->add_option("--nav", o->nav,
                     "Navigation input <protocol>:<transport>: nmea:/dev/ttyUSB0?baud=115200, "
                     "novatel:tcp://host:port, ncom:udp://:3000, oxts-can:socketcan:can0, "
-                    "sbg-can:slcan:/dev/ttyACM0, oxts-can:gsusb:1d50:606f, oxts-can:memory:x")
+                    "sbg-can:slcan:/dev/ttyACM0, oxts-can:gsusb:1d50:606f, oxts-can:memory:x, "
+                    "dis:udp://:3000?exercise=1&entity=1.2.3&timeout=12")
         ->required();
     cmd->add_option("--to", o->to, "Destination IPv4 host of the lidar packets");
     cmd->add_option("--data-port", o->data_port, "Lidar data port (default 2368 / 7502)");
@@ -251,9 +252,9 @@ void register_live(CLI::App& app) {
                 const auto c = nav.counters();
                 throw IoError(fmt::format(
                     "live: no full pose (position + attitude + time) from '{}' within {} s "
-                    "({}; bytes skipped {})",
+                    "({}; bytes skipped {}{}{})",
                     o->nav, o->first_nav_timeout_s, navpose::nav_counters_line(c.decode, c.track),
-                    c.decode.garbage_bytes));
+                    c.decode.garbage_bytes, c.detail.empty() ? "" : "; ", c.detail));
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
@@ -304,7 +305,7 @@ void register_live(CLI::App& app) {
         const auto nc = nav.counters();
         std::printf(
             "mirage live: %llu packets (%.2f MB) in %.3f s, %llu points, %d sub-rays; windows "
-            "%llu, stale windows %llu in %llu periods; %s; INS->packet latency p50 %.3f ms p99 "
+            "%llu, stale windows %llu in %llu periods; %s%s%s; INS->packet latency p50 %.3f ms p99 "
             "%.3f ms max %.3f ms (%llu messages; never in a packet: %llu superseded, %llu "
             "waiting at the end); packet lateness p99 %.0f µs, late %llu, failed sends %llu\n",
             static_cast<unsigned long long>(t.packets), double(t.bytes) / 1e6, t.seconds,
@@ -312,8 +313,8 @@ void register_live(CLI::App& app) {
             static_cast<unsigned long long>(t.windows),
             static_cast<unsigned long long>(t.stale_windows),
             static_cast<unsigned long long>(t.stale_periods),
-            navpose::nav_counters_line(nc.decode, nc.track).c_str(),
-            double(t.latency.percentile(0.5).count()) / 1e6,
+            navpose::nav_counters_line(nc.decode, nc.track).c_str(), nc.detail.empty() ? "" : "; ",
+            nc.detail.c_str(), double(t.latency.percentile(0.5).count()) / 1e6,
             double(t.latency.percentile(0.99).count()) / 1e6,
             double(t.latency.worst().count()) / 1e6,
             static_cast<unsigned long long>(t.latency.count()),

@@ -16,120 +16,17 @@
 
 #include "background_mirage.hpp"
 #include "cli_run.hpp"
-#include "mirage/core/georef.hpp"
-#include "mirage/core/time.hpp"
-#include "mirage/core/trajectory.hpp"
-#include "mirage/udp/udp_receiver.hpp"
-#include "mirage/velodyne/data_packet.hpp"
+#include "live_yard.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::test {
 namespace {
-
-// A 80 x 80 m walled yard in UTM 32N: ground z = 0, inner wall faces at x, y = ±40.
-constexpr const char* kScene = R"(georef: {epsg: 32632, anchor: [500000, 5000000, 0]}
-materials:
-  ground: {reflectance: 0.3, classification: 2}
-  wall: {reflectance: 0.5, classification: 6}
-objects:
-  - {type: plane, material: ground, size: [120, 120]}
-  - {type: box, material: wall, size: [82, 1, 20], transform: {translate: [0, 40.5, 10]}}
-  - {type: box, material: wall, size: [82, 1, 20], transform: {translate: [0, -40.5, 10]}}
-  - {type: box, material: wall, size: [1, 82, 20], transform: {translate: [40.5, 0, 10]}}
-  - {type: box, material: wall, size: [1, 82, 20], transform: {translate: [-40.5, 0, 10]}}
-)";
-
-double distance_to_yard(const Eigen::Vector3d& p) {
-    return std::min({std::abs(p.z()), std::abs(p.x() - 40), std::abs(p.x() + 40),
-                     std::abs(p.y() - 40), std::abs(p.y() + 40)});
-}
-
-// A car circling at 6 m/s on a 15 m radius (yaw rate 0.4 rad/s), 40 s of samples every 50 ms.
-void write_trajectory(const std::string& path) {
-    std::ofstream f(path);
-    f << "time,x,y,z,roll,pitch,yaw\n";
-    for (int i = 0; i <= 800; ++i) {
-        const double t = 0.05 * i, a = 0.4 * t;
-        f << t << ',' << 15 * std::cos(a) << ',' << 15 * std::sin(a) << ",1.8,0,0,"
-          << (a + M_PI / 2) * 180 / M_PI << '\n';
-    }
-}
 
 core::GpsTime parse_t0(const std::string& line) {
     std::smatch m;
     const std::regex re("t0 gps:([0-9]+\\.[0-9]+)");
     if (!std::regex_search(line, m, re)) return {};
     return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
-}
-
-struct Received {
-    std::vector<std::vector<std::uint8_t>> packets;
-};
-
-// Collects datagrams on a thread until `stop`.
-class Collector {
-  public:
-    Collector() : thread_([this] { run(); }) {}
-    ~Collector() { stop(); }
-    void stop() {
-        stop_ = true;
-        if (thread_.joinable()) thread_.join();
-    }
-    std::uint16_t port() const { return rx_.port(); }
-    const std::vector<std::vector<std::uint8_t>>& packets() const { return packets_; }
-
-  private:
-    void run() {
-        udp::ReceivedDatagram d;
-        while (!stop_)
-            if (rx_.receive(d, std::chrono::milliseconds(50))) packets_.push_back(d.payload);
-    }
-    udp::UdpReceiver rx_;
-    std::atomic<bool> stop_{false};
-    std::vector<std::vector<std::uint8_t>> packets_;
-    std::thread thread_;
-};
-
-struct Stats {
-    std::size_t points = 0, packets = 0, bad_packets = 0;
-    double median = 0, p99 = 0, max = 0, rms = 0;
-};
-
-Stats check_points(const std::vector<std::vector<std::uint8_t>>& packets,
-                   const core::Trajectory& truth, core::GpsTime t0) {
-    Stats st;
-    std::vector<double> err;
-    // Velodyne time is µs past the UTC hour: take the hour from t0 (a run lasts seconds).
-    const std::int64_t t0_unix = core::unix_ns_from_gps(t0);
-    const std::int64_t hour_ns = 3'600'000'000'000;
-    velodyne::DecodedPacket dp;
-    for (const auto& p : packets) {
-        if (p.size() != 1206) continue;
-        if (velodyne::decode_data(p, nullptr, dp) != velodyne::DecodeStatus::Ok) {
-            ++st.bad_packets;
-            continue;
-        }
-        ++st.packets;
-        std::int64_t hour = t0_unix / hour_ns * hour_ns;
-        std::int64_t unix_t = hour + std::int64_t(dp.timestamp_us) * 1000;
-        if (unix_t < t0_unix - hour_ns / 2) unix_t += hour_ns;  // the hour rolled during the run
-        for (const auto& f : dp.firing) {
-            if (f.distance_m <= 0) continue;
-            const core::GpsTime t = core::gps_from_unix_ns(unix_t + f.time_offset_ns);
-            const core::Pose pose = truth.at(truth.begin() + (t - t0));
-            err.push_back(distance_to_yard(pose.apply(Eigen::Vector3d(f.x, f.y, f.z))));
-        }
-    }
-    st.points = err.size();
-    if (err.empty()) return st;
-    std::sort(err.begin(), err.end());
-    st.median = err[err.size() / 2];
-    st.p99 = err[err.size() * 99 / 100];
-    st.max = err.back();
-    double s2 = 0;
-    for (double e : err) s2 += e * e;
-    st.rms = std::sqrt(s2 / double(err.size()));
-    return st;
 }
 
 // The clean runs allow 150 ms of extrapolation, so a scheduling hiccup of a loaded CI machine
@@ -233,6 +130,12 @@ std::string run_case(const Case& c) {
 TEST(LiveE2E, nmea_over_a_pty) { (void)run_case({"nmea", "pty:LINK", "nmea:LINK", 0.03}); }
 TEST(LiveE2E, novatel_over_a_pty) { (void)run_case({"novatel", "pty:LINK", "novatel:LINK", 0.02}); }
 TEST(LiveE2E, ncom_over_udp) { (void)run_case({"ncom", "udp", "ncom:udp://127.0.0.1:0", 0.02}); }
+// DIS: the fake INS sends an Entity State PDU (RPW) per epoch; live dead-reckons between them.
+TEST(LiveE2E, dis_over_udp) {
+    const std::string out =
+        run_case({"dis", "udp", "'dis:udp://127.0.0.1:0?exercise=1&entity=1.1.1'", 0.02});
+    EXPECT_NE(out.find("dis entity 1.1.1"), std::string::npos) << out;
+}
 TEST(LiveE2E, oxts_can_over_slcan_on_a_pty) {
     (void)run_case({"oxts-can", "slcan-pty:LINK", "oxts-can:slcan:LINK", 0.04});
 }

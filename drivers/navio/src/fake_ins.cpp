@@ -10,6 +10,7 @@
 
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
+#include "mirage/core/pose.hpp"
 #include "mirage/hostclock/host_clock.hpp"
 
 namespace mirage::navio {
@@ -37,8 +38,15 @@ nav::NavSample FakeIns::sample_at(core::GpsTime t, core::GpsTime t0) const {
     const core::Nanos h(5'000'000);
     const Eigen::Vector3d v = (traj_.at(tt + h).position - traj_.at(tt - h).position) / 0.01;
     nav::NavSample s = frame_.sample(p, v);
+    // Body rates by a central difference of the NED attitude over the same ±5 ms.
+    const auto attitude = [&](core::GpsTime at) {
+        const nav::NavSample a = frame_.sample(traj_.at(at), v);
+        return core::quaternion_from_rpy(a.roll_rad, a.pitch_rad, a.heading_rad);
+    };
+    const Eigen::AngleAxisd turn(attitude(tt - h).conjugate() * attitude(tt + h));
+    s.rate_frd_radps = turn.axis() * (turn.angle() / 0.01);
     s.t = t;
-    s.fields |= nav::NavSample::kTime;
+    s.fields |= nav::NavSample::kTime | nav::NavSample::kAngularRate;
     s.quality = nav::FixQuality::RtkFixed;
     s.satellites = 14;
     return s;

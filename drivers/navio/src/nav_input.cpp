@@ -8,12 +8,13 @@
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
+#include "mirage/navio/dis_uri.hpp"
 #include "mirage/navio/nav_recorder.hpp"
 
 namespace mirage::navio {
 namespace {
 
-constexpr std::int64_t kOffsetBlockNs = 10'000'000'000;  // lower envelope over 10-20 s
 constexpr auto kPoll = std::chrono::milliseconds(50);
 constexpr std::ptrdiff_t kMaxApplied = 100'000;
 
@@ -26,8 +27,15 @@ NavInput::NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose
       mapper_(frame, options.mapper),
       pose_log_(options.pose_log),
       record_(options.record),
-      decoder_(navproto::make_nav_decoder(uri.protocol, options.nmea_date)) {
-    if (navproto::is_can(uri.protocol)) {
+      decoder_(uri.protocol == navproto::NavProtocol::Dis
+                   ? nullptr
+                   : navproto::make_nav_decoder(uri.protocol, options.nmea_date)) {
+    if (uri.protocol == navproto::NavProtocol::Dis) {
+        std::string udp;
+        decoder_ = navproto::make_dis_decoder(parse_dis_transport(uri.transport, udp));
+        stream_ = bytestream::open_byte_stream(udp);
+        datagrams_ = true;
+    } else if (navproto::is_can(uri.protocol)) {
         bus_ = can::open_can_bus(uri.transport);
     } else {
         stream_ = bytestream::open_byte_stream(uri.transport);
@@ -48,12 +56,14 @@ void NavInput::stop() {
 
 void NavInput::run() {
     std::array<std::uint8_t, 65536> buf{};
+    const auto poll = std::min<core::Nanos>(kPoll, decoder_->tick_period().value_or(kPoll));
+    std::int64_t next_detail_ns = 0;
     while (!stop_) {
         std::int64_t host_ns = 0;
         const auto fn = [&](const nav::NavSample& s) { on_sample(s, host_ns); };
         if (bus_) {
             nav::CanFrame f;
-            switch (bus_->receive(f, host_ns, kPoll)) {
+            switch (bus_->receive(f, host_ns, poll)) {
                 case can::RxStatus::Frame:
                     if (record_) record_->frame(f, host_ns);
                     decoder_->feed_frame(f, fn);
@@ -77,7 +87,7 @@ void NavInput::run() {
             }
         } else {
             std::size_t n = 0;
-            switch (stream_->read(buf, n, host_ns, kPoll)) {
+            switch (stream_->read(buf, n, host_ns, poll)) {
                 case bytestream::ReadStatus::Data: {
                     const std::span<const std::uint8_t> bytes(buf.data(), n);
                     if (record_) record_->bytes(bytes);
@@ -96,9 +106,17 @@ void NavInput::run() {
                     break;
             }
         }
+        host_ns = hostclock::monotonic_ns();
+        decoder_->tick(fn);
         const nav::DecodeCounters dc = decoder_->counters();
+        std::string detail;
+        if (host_ns >= next_detail_ns || stop_) {  // a string: once a second is enough
+            detail = decoder_->detail();
+            next_detail_ns = host_ns + 1'000'000'000;
+        }
         std::lock_guard lk(mu_);
         counters_.decode = dc;
+        if (!detail.empty()) counters_.detail = std::move(detail);
     }
 }
 
@@ -128,25 +146,12 @@ void NavInput::on_sample(const nav::NavSample& s, std::int64_t host_ns) {
 
 void NavInput::track_offset(const nav::NavSample& s, std::int64_t host_ns) {
     std::lock_guard lk(mu_);
-    const std::int64_t off = host_ns - s.t.time_since_epoch().count();
-    if (!offset_) {
-        offset_ = off;
-        offset_block_min_ = off;
-        prev_block_min_ = off;
-        offset_block_start_ = host_ns;
-    }
-    if (host_ns - offset_block_start_ > kOffsetBlockNs) {
-        prev_block_min_ = offset_block_min_;
-        offset_block_min_ = off;
-        offset_block_start_ = host_ns;
-    }
-    offset_block_min_ = std::min(offset_block_min_, off);
-    offset_ = std::min(prev_block_min_, offset_block_min_);
+    offset_.add(host_ns - s.t.time_since_epoch().count(), host_ns);
 }
 
 std::optional<std::int64_t> NavInput::offset_ns() const {
     std::lock_guard lk(mu_);
-    return offset_;
+    return offset_.value();
 }
 
 NavInputCounters NavInput::counters() const {

@@ -10,6 +10,23 @@
 #include "mirage/core/pose.hpp"
 
 namespace mirage::dis {
+namespace {
+
+// North-east-down from east-north-up (its own inverse).
+Eigen::Matrix3d ned_from_enu() {
+    Eigen::Matrix3d m;
+    m << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+    return m;
+}
+
+// GeographicLib's rotation matrix (local east-north-up into ECEF at the point).
+Eigen::Matrix3d enu_to_ecef(const std::vector<double>& m) {
+    Eigen::Matrix3d r;
+    r << m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8];
+    return r;
+}
+
+}  // namespace
 
 nav::NavSample to_sample(const Kinematics& k, core::GpsTime t) {
     nav::NavSample s;
@@ -22,11 +39,7 @@ nav::NavSample to_sample(const Kinematics& k, core::GpsTime t) {
     std::vector<double> m(9, 0.0);
     GeographicLib::Geocentric::WGS84().Reverse(k.location.x(), k.location.y(), k.location.z(),
                                                s.lat_deg, s.lon_deg, s.height_m, m);
-    Eigen::Matrix3d enu_to_ecef;
-    enu_to_ecef << m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8];
-    Eigen::Matrix3d ned_from_enu;
-    ned_from_enu << 0, 1, 0, 1, 0, 0, 0, 0, -1;
-    const Eigen::Matrix3d ned_from_ecef = ned_from_enu * enu_to_ecef.transpose();
+    const Eigen::Matrix3d ned_from_ecef = ned_from_enu() * enu_to_ecef(m).transpose();
     s.velocity_ned_mps = ned_from_ecef * k.velocity;
     const Eigen::Vector3d rpy =
         core::rpy_from_quaternion(Eigen::Quaterniond(ned_from_ecef * k.body_to_ecef));
@@ -35,6 +48,29 @@ nav::NavSample to_sample(const Kinematics& k, core::GpsTime t) {
     s.heading_rad = rpy.z() < 0 ? rpy.z() + 2 * std::numbers::pi : rpy.z();
     if (s.heading_rad >= 2 * std::numbers::pi) s.heading_rad = 0;
     return s;
+}
+
+EntityState from_sample(const nav::NavSample& s, const EntityId& id, std::uint8_t exercise) {
+    EntityState e;
+    e.exercise = exercise;
+    e.id = id;
+    std::vector<double> m(9, 0.0);
+    GeographicLib::Geocentric::WGS84().Forward(s.lat_deg, s.lon_deg, s.height_m, e.location.x(),
+                                               e.location.y(), e.location.z(), m);
+    const Eigen::Matrix3d ecef_from_ned = enu_to_ecef(m) * ned_from_enu();
+    const Eigen::Matrix3d body =
+        ecef_from_ned *
+        core::quaternion_from_rpy(s.roll_rad, s.pitch_rad, s.heading_rad).toRotationMatrix();
+    const Eigen::Vector3d psi_theta_phi = euler_of(body);
+    e.psi = static_cast<float>(psi_theta_phi.x());
+    e.theta = static_cast<float>(psi_theta_phi.y());
+    e.phi = static_cast<float>(psi_theta_phi.z());
+    e.velocity = (ecef_from_ned * s.velocity_ned_mps).cast<float>();
+    const bool rates = s.has(nav::NavSample::kAngularRate);
+    e.dr_algorithm = rates ? 3 : 2;
+    if (rates) e.dr_angular_velocity = s.rate_frd_radps.cast<float>();
+    e.timestamp = encode_timestamp(utc_seconds_past_hour(s.t), true);
+    return e;
 }
 
 }  // namespace mirage::dis

@@ -147,4 +147,10 @@ double seconds_between(double earlier, double later) {
     return d;
 }
 
+double utc_seconds_past_hour(core::GpsTime t) {
+    constexpr std::int64_t kHourNs = 3'600'000'000'000;
+    const std::int64_t unix_ns = core::unix_ns_from_gps(t);
+    return double(((unix_ns % kHourNs) + kHourNs) % kHourNs) * 1e-9;
+}
+
 }  // namespace mirage::dis

@@ -151,6 +151,10 @@ void fill_times(std::vector<NavLogMessage>& msgs) {
 }  // namespace
 
 NavLog read_nav_log(const std::string& path, NavProtocol protocol, const NavLogOptions& options) {
+    if (protocol == NavProtocol::Dis)
+        throw ConfigError("nav log '" + path +
+                          "': DIS is read live only (record the PDUs as a pcap with "
+                          "`mirage record`)");
     NavLog log;
     log.path = path;
     log.protocol = protocol;

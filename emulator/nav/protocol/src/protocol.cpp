@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "mirage/navproto/protocol.hpp"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 
 #include "mirage/core/error.hpp"
+#include "mirage/dis/dis_sample.hpp"
+#include "mirage/dis/entity_state.hpp"
 #include "mirage/navcan/oxts_can.hpp"
 #include "mirage/navcan/sbg_can.hpp"
 #include "mirage/ncom/decoder.hpp"
@@ -64,6 +68,62 @@ class CanAdapter : public NavDecoder {
     D d_;
     std::uint64_t other_ = 0;
 };
+
+// DIS: one Entity State PDU per datagram, followed by dead reckoning between them.
+class DisAdapter : public NavDecoder {
+  public:
+    DisAdapter(const dis::TrackConfig& c, UtcClock clock)
+        : track_(c), step_(c.step), clock_(std::move(clock)) {}
+    void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn&) override {
+        other_bytes_ += b.size();  // a byte stream has no PDU boundaries
+    }
+    void feed_datagram(std::span<const std::uint8_t> d, const nav::SampleFn& fn) override {
+        track_.feed(d, clock_(), fn);
+    }
+    void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_frames_; }
+    void tick(const nav::SampleFn& fn) override { track_.tick(clock_(), fn); }
+    std::optional<core::Nanos> tick_period() const override { return step_; }
+    nav::DecodeCounters counters() const override {
+        nav::DecodeCounters c = track_.counters();
+        const dis::DisCounters& d = track_.dis_counters();
+        c.unsupported += other_frames_ + d.other_pdu + d.other_exercise + d.other_entity;
+        c.garbage_bytes += other_bytes_;
+        return c;
+    }
+    std::string detail() const override {
+        const auto e = track_.entity();
+        const dis::DisCounters& d = track_.dis_counters();
+        const dis::TrackCounters& t = track_.track_counters();
+        return fmt::format(
+            "dis entity {}, PDUs {}, out of order {}, timeouts {}, other entities {}, "
+            "other exercises {}, other PDUs {}",
+            e ? fmt::format("{}.{}.{}", e->site, e->application, e->entity) : "(none yet)",
+            t.accepted, t.out_of_order, t.timeouts, d.other_entity, d.other_exercise, d.other_pdu);
+    }
+
+  private:
+    dis::EntityTrack track_;
+    core::Nanos step_;
+    UtcClock clock_;
+    std::uint64_t other_bytes_ = 0, other_frames_ = 0;
+};
+
+// One PDU of entity 1.1.1 in exercise 1 per epoch (docs/dis.md §6).
+class DisEncoder : public NavEncoder {
+  public:
+    std::vector<std::uint8_t> encode_bytes(const nav::NavSample& s, std::uint64_t) override {
+        return dis::encode(dis::from_sample(s, {1, 1, 1}, 1));
+    }
+    std::vector<nav::CanFrame> encode_frames(const nav::NavSample&, std::uint64_t) override {
+        return {};
+    }
+};
+
+core::GpsTime host_utc_now() {
+    return core::gps_from_unix_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                      std::chrono::system_clock::now().time_since_epoch())
+                                      .count());
+}
 
 std::vector<std::uint8_t> bytes_of(const std::string& s) { return {s.begin(), s.end()}; }
 
@@ -164,8 +224,9 @@ NavProtocol parse_nav_protocol(const std::string& name) {
     if (name == "ncom") return NavProtocol::Ncom;
     if (name == "oxts-can") return NavProtocol::OxtsCan;
     if (name == "sbg-can") return NavProtocol::SbgCan;
+    if (name == "dis") return NavProtocol::Dis;
     throw ConfigError("nav: unknown protocol '" + name +
-                      "' (nmea, novatel, ncom, oxts-can, sbg-can)");
+                      "' (nmea, novatel, ncom, oxts-can, sbg-can, dis)");
 }
 
 std::string to_string(NavProtocol p) {
@@ -180,6 +241,8 @@ std::string to_string(NavProtocol p) {
             return "oxts-can";
         case NavProtocol::SbgCan:
             return "sbg-can";
+        case NavProtocol::Dis:
+            return "dis";
     }
     return "?";
 }
@@ -227,8 +290,14 @@ std::unique_ptr<NavDecoder> make_nav_decoder(NavProtocol p, const std::string& n
             return std::make_unique<CanAdapter<navcan::OxtsCanDecoder>>();
         case NavProtocol::SbgCan:
             return std::make_unique<CanAdapter<navcan::SbgCanDecoder>>();
+        case NavProtocol::Dis:
+            return make_dis_decoder({});
     }
     throw ConfigError("nav: no decoder");
+}
+
+std::unique_ptr<NavDecoder> make_dis_decoder(const dis::TrackConfig& config, UtcClock utc_now) {
+    return std::make_unique<DisAdapter>(config, utc_now ? std::move(utc_now) : host_utc_now);
 }
 
 std::unique_ptr<NavEncoder> make_nav_encoder(NavProtocol p, double rate_hz) {
@@ -243,6 +312,8 @@ std::unique_ptr<NavEncoder> make_nav_encoder(NavProtocol p, double rate_hz) {
             return std::make_unique<OxtsCanEncoderAdapter>();
         case NavProtocol::SbgCan:
             return std::make_unique<SbgCanEncoderAdapter>(rate_hz);
+        case NavProtocol::Dis:
+            return std::make_unique<DisEncoder>();
     }
     throw ConfigError("nav: no encoder");
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mirage/can/can_bus.hpp"
+#include "mirage/nav/lower_envelope.hpp"
 #include "mirage/navpose/nav_frame.hpp"
 #include "mirage/navpose/nav_mapper.hpp"
 #include "mirage/navpose/pose_buffer.hpp"
@@ -40,6 +41,7 @@ struct NavInputCounters {
     navpose::NavCounters track;  // the mapper's: what was applied and what the rules refused
     std::uint64_t transport_closed = 0;
     std::uint64_t error_frames = 0;  // CAN
+    std::string detail;              // the protocol's own counters (DIS), refreshed every second
 };
 
 // A message that updated the pose buffer, for the INS-to-packet latency: its tag and tracks.
@@ -95,10 +97,7 @@ class NavInput {
     std::thread thread_;
     mutable std::mutex mu_;
     NavInputCounters counters_;
-    std::optional<std::int64_t> offset_;
-    std::int64_t offset_block_min_ = 0;
-    std::int64_t prev_block_min_ = 0;
-    std::int64_t offset_block_start_ = 0;
+    nav::LowerEnvelope offset_{10'000'000'000};  // over 10-20 s
     std::vector<AppliedMessage> applied_;
 };
 

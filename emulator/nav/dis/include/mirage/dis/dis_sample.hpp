@@ -13,4 +13,9 @@ namespace mirage::dis {
 // attitude, velocity; source Dis, quality Simulated.
 nav::NavSample to_sample(const Kinematics& k, core::GpsTime t);
 
+// The other way, for a sender (`mirage fake-ins --protocol dis`): a sample's position, attitude
+// and velocity as the state of entity `id`, its time as an absolute timestamp (UTC past the
+// hour), dead-reckoned by RPW (3) with the sample's body rates when it has them, else FPW (2).
+EntityState from_sample(const nav::NavSample& s, const EntityId& id, std::uint8_t exercise);
+
 }  // namespace mirage::dis

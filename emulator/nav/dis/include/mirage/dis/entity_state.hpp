@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "mirage/core/time.hpp"
 #include "mirage/nav/decode_counters.hpp"
 
 namespace mirage::dis {
@@ -25,10 +26,10 @@ struct EntityId {
     bool operator==(const EntityId&) const = default;
 };
 
-// The fields Mirage reads, in the PDU's own frames: location in ECEF (m), velocity and the
-// world-frame algorithms' acceleration in ECEF (m/s, m/s²; the body-frame algorithms' in body
-// axes), orientation ψ, θ, φ (rad: about ECEF z, then the new y, then the new x), angular
-// velocity in body axes (rad/s, x forward, y right, z down).
+// The fields Mirage reads, in the PDU's own frames: location in ECEF (m), velocity and
+// dead-reckoning acceleration in ECEF for algorithms 0–5 and in body axes for 6–9 (m/s, m/s²),
+// orientation ψ, θ, φ (rad: about ECEF z, then the new y, then the new x), angular velocity in body
+// axes (rad/s, x forward, y right, z down).
 struct EntityState {
     std::uint8_t version = 7;
     std::uint8_t exercise = 1;
@@ -80,6 +81,9 @@ class EntityStateDecoder {
   public:
     explicit EntityStateDecoder(Filter filter = {}) : filter_(filter) {}
     Status decode(std::span<const std::uint8_t> datagram, EntityState& out);
+    // From now on, only this entity (a source that locks onto the first entity it hears).
+    void follow(const EntityId& id) { filter_.entity = id; }
+    const Filter& filter() const { return filter_; }
     const nav::DecodeCounters& counters() const { return counters_; }
     const DisCounters& dis_counters() const { return dis_; }
 
@@ -104,5 +108,7 @@ std::uint32_t encode_timestamp(double seconds_past_hour, bool absolute);
 // Seconds from `earlier` to `later`, both past the hour, across at most one hourly rollover:
 // the result lies in [−1800, 1800) s.
 double seconds_between(double earlier, double later);
+// UTC seconds past the hour of a GPS time (what an absolute timestamp carries).
+double utc_seconds_past_hour(core::GpsTime t);
 
 }  // namespace mirage::dis
