@@ -12,6 +12,7 @@ deps:
 build: deps
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
 	cmake --build $(BUILD) -j $(JOBS)
+	@scripts/install-peers $(BUILD)
 
 demo: build
 	$(BUILD)/hil/mirage demo
@@ -30,6 +31,7 @@ asan: deps
 	cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DMIRAGE_SANITIZE=ON -DMIRAGE_NATIVE=OFF $(CMAKE_FLAGS)
 	cmake --build build-asan -j $(JOBS)
+	@scripts/install-peers build-asan
 	cd build-asan && ctest --output-on-failure -j $(JOBS) -L 'unit|loopback'
 
 # libFuzzer (Clang) under ASan+UBSan on every parser of outside bytes: only the fuzz targets and
