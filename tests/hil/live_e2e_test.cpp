@@ -82,9 +82,9 @@ std::string run_case(const Case& c) {
         std::smatch m;
         EXPECT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << live.output;
         if (m.empty()) return {};
-        BackgroundMirage fake =
-            start_mirage("fake-ins --scene " + scene + " --trajectory " + traj + " --protocol " +
-                         c.protocol + " --duration 6 --to udp://127.0.0.1:" + m[1].str());
+        BackgroundMirage fake = start_mirage(
+            "fake-ins --scene " + scene + " --trajectory " + traj + " --protocol " + c.protocol +
+            " --duration 6 --to udp://127.0.0.1:" + m[1].str() + " " + c.fake_extra);
         t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
         live_rc = live.finish();
         live_out = live.output;
@@ -130,7 +130,7 @@ std::string run_case(const Case& c) {
 TEST(LiveE2E, nmea_over_a_pty) { (void)run_case({"nmea", "pty:LINK", "nmea:LINK", 0.03}); }
 TEST(LiveE2E, novatel_over_a_pty) { (void)run_case({"novatel", "pty:LINK", "novatel:LINK", 0.02}); }
 TEST(LiveE2E, ncom_over_udp) { (void)run_case({"ncom", "udp", "ncom:udp://127.0.0.1:0", 0.02}); }
-// DIS: the fake INS sends an Entity State PDU (RPW) per epoch; live dead-reckons between them.
+// DIS: the fake INS sends an Entity State PDU (RPB) per epoch; live dead-reckons between them.
 TEST(LiveE2E, dis_over_udp) {
     const std::string out =
         run_case({"dis", "udp", "'dis:udp://127.0.0.1:0?exercise=1&entity=1.1.1'", 0.02});
@@ -170,6 +170,25 @@ TEST(LiveE2E, faults_are_rejected_counted_and_never_applied) {
     EXPECT_GE(figure(out, "time backwards"), 2u) << out;  // GGA and PASHR of that epoch
     EXPECT_GE(figure(out, "bad checksum"), 4u) << out;    // ≥ 4 of the corrupted epochs seen
     EXPECT_GE(figure(out, "invalid"), 1u) << out;         // the NaN latitude
+}
+
+// DIS heartbeat timeout: the sender falls silent from 0.8 s to 2.4 s; dead reckoning carries the
+// car for the 1 s timeout (exactly: RPB on a steady turn), then no samples, the poses go stale
+// after the 150 ms of extrapolation, and the next PDU resumes.
+TEST(LiveE2E, dis_silence_outlasts_the_timeout_and_goes_stale) {
+    const std::string out =
+        run_case({"dis", "udp", "'dis:udp://127.0.0.1:0?entity=1.1.1&timeout=1'", 0.02,
+                  "--silence 0.8,1.6"});
+    ASSERT_FALSE(out.empty());
+    EXPECT_NE(out.find("timeouts 1,"), std::string::npos) << out;
+    std::smatch m;
+    ASSERT_TRUE(
+        std::regex_search(out, m, std::regex("stale windows ([0-9]+) in ([0-9]+) periods")));
+    // 1.6 s − 1 s − 0.15 s ≈ 0.45 s = 340 windows of 1.327 ms; the start of live is not aligned
+    // with the sender's first epoch to better than ~0.1 s.
+    EXPECT_GE(std::stoull(m[2].str()), 1u) << out;
+    EXPECT_GT(std::stoull(m[1].str()), 200u) << out;
+    EXPECT_LT(std::stoull(m[1].str()), 500u) << out;
 }
 
 }  // namespace

@@ -65,9 +65,10 @@ EntityState from_sample(const nav::NavSample& s, const EntityId& id, std::uint8_
     e.psi = static_cast<float>(psi_theta_phi.x());
     e.theta = static_cast<float>(psi_theta_phi.y());
     e.phi = static_cast<float>(psi_theta_phi.z());
-    e.velocity = (ecef_from_ned * s.velocity_ned_mps).cast<float>();
+    const Eigen::Vector3d v = ecef_from_ned * s.velocity_ned_mps;
     const bool rates = s.has(nav::NavSample::kAngularRate);
-    e.dr_algorithm = rates ? 3 : 2;
+    e.dr_algorithm = rates ? 7 : 2;  // RPB: a vehicle's velocity turns with it
+    e.velocity = (rates ? Eigen::Vector3d(body.transpose() * v) : v).cast<float>();
     if (rates) e.dr_angular_velocity = s.rate_frd_radps.cast<float>();
     e.timestamp = encode_timestamp(utc_seconds_past_hour(s.t), true);
     return e;

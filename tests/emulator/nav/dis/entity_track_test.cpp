@@ -151,7 +151,7 @@ TEST(DisTrack, a_sample_through_a_pdu_and_back) {
     s.velocity_ned_mps = {-12.0, 3.5, 0.25};
     s.rate_frd_radps = {0.01, -0.02, 0.3};
     const EntityState e = from_sample(s, {7, 8, 9}, 4);
-    EXPECT_EQ(e.dr_algorithm, 3);
+    EXPECT_EQ(e.dr_algorithm, 7);
     EntityStateDecoder d;
     EntityState back;
     ASSERT_EQ(d.decode(encode(e), back), Status::Ok);

@@ -15,7 +15,8 @@ nav::NavSample to_sample(const Kinematics& k, core::GpsTime t);
 
 // The other way, for a sender (`mirage fake-ins --protocol dis`): a sample's position, attitude
 // and velocity as the state of entity `id`, its time as an absolute timestamp (UTC past the
-// hour), dead-reckoned by RPW (3) with the sample's body rates when it has them, else FPW (2).
+// hour); dead-reckoned by RPB (7: velocity in body axes, turning at the sample's body rates)
+// when it has rates, which carries a vehicle on a steady turn exactly, else by FPW (2).
 EntityState from_sample(const nav::NavSample& s, const EntityId& id, std::uint8_t exercise);
 
 }  // namespace mirage::dis
