@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: Apache-2.0
+// A rig file (docs/rig.md): a vehicle's lidars in one YAML file — the scene, one navigation
+// source, and the sensors with their mounts, wire settings, destinations and outputs. Parsing is
+// pure: names of presets, files and URIs are checked by the commands that open them.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mirage::rig {
+
+struct Ports {
+    std::uint16_t data = 0;      // required with a destination
+    std::uint16_t position = 0;  // Velodyne position packets; 0: off
+    std::uint16_t imu = 0;       // Ouster IMU packets; 0: off
+};
+
+struct SensorEntry {
+    std::string name;                          // unique in the rig: [A-Za-z0-9_-]
+    std::string sensor;                        // preset or sensor file (relative to the rig file)
+    std::array<double, 3> lever_arm{0, 0, 0};  // m, body frame (x forward, y left, z up)
+    std::array<double, 3> boresight{0, 0, 0};  // roll, pitch, yaw in degrees
+    std::string return_mode = "strongest";     // Velodyne: strongest, last, dual
+    double rpm = 0;                            // Velodyne; 0: the model's default
+    std::string profile = "LEGACY";            // Ouster UDP profile
+    std::string to;                            // destination IPv4 host; empty: none
+    std::uint16_t source_port = 0;             // 0: any
+    Ports ports;
+    std::string pcap;  // capture of the sensor's packets; empty: none
+    int line = 0;      // where the entry starts in the file (for messages)
+};
+
+struct RigConfig {
+    std::string file;        // as given
+    std::string scene;       // demo or a scene file (relative paths resolved)
+    std::string trajectory;  // navigation: trajectory CSV, demo-*, static:…
+    std::string start;       // UTC / gps: time of the first pulse; empty: now
+    std::string duration;    // seconds; empty: the trajectory's span (static: until Ctrl-C)
+    int threads = 1;         // render threads per sensor
+    std::vector<SensorEntry> sensors;
+};
+
+// Reads and checks a rig file: unknown keys, types and ranges, unique names, and no two sensors
+// claiming the same destination address and port or the same source port. Throws ConfigError
+// "rig '<file>': <key path>: <problem> (line N)". `text`: the YAML itself (tests), or nullptr.
+RigConfig load_rig(const std::string& file, const std::string* text = nullptr);
+
+}  // namespace mirage::rig

@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: Apache-2.0
+// Rig files (docs/rig.md §1): the example loads; every mistake is refused naming the file, the
+// key path and the line; no two sensors claim one destination or source port.
+#include "mirage/rig/rig_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <string>
+
+#include "mirage/core/error.hpp"
+
+namespace mirage::rig {
+namespace {
+
+const std::string kGood = R"(scene: yard.yaml
+navigation:
+  trajectory: static:0,0,1.8,0,0,30
+duration: 2.5
+threads: 2
+sensors:
+  - name: left
+    sensor: vlp16
+    return_mode: dual
+    rpm: 900
+    mount: {lever_arm: [1, 0.5, 0.3], boresight: [0, 0, 90]}
+    to: 127.0.0.1
+    source_port: 40001
+    ports: {data: 2368, position: 8308}
+  - name: roof
+    sensor: sensors/os.yaml
+    profile: RNG19_RFL8_SIG16_NIR16
+    to: 127.0.0.1
+    ports: {data: 7502, imu: 7503}
+    pcap: out/roof.pcap
+)";
+
+TEST(RigConfig, a_rig_file_loads_with_paths_relative_to_it) {
+    const RigConfig c = load_rig("/bench/car.yaml", &kGood);
+    EXPECT_EQ(c.scene, "/bench/yard.yaml");
+    EXPECT_EQ(c.trajectory, "static:0,0,1.8,0,0,30");
+    EXPECT_EQ(c.duration, "2.5");
+    EXPECT_EQ(c.threads, 2);
+    ASSERT_EQ(c.sensors.size(), 2u);
+    const SensorEntry& l = c.sensors[0];
+    EXPECT_EQ(l.name, "left");
+    EXPECT_EQ(l.sensor, "vlp16");  // a preset stays a name
+    EXPECT_EQ(l.return_mode, "dual");
+    EXPECT_EQ(l.rpm, 900);
+    EXPECT_EQ(l.lever_arm[1], 0.5);
+    EXPECT_EQ(l.boresight[2], 90);
+    EXPECT_EQ(l.source_port, 40001);
+    EXPECT_EQ(l.ports.data, 2368);
+    EXPECT_EQ(l.ports.position, 8308);
+    EXPECT_EQ(l.line, 7);
+    const SensorEntry& r = c.sensors[1];
+    EXPECT_EQ(r.sensor, "/bench/sensors/os.yaml");
+    EXPECT_EQ(r.pcap, "/bench/out/roof.pcap");
+    EXPECT_EQ(r.ports.imu, 7503);
+}
+
+TEST(RigConfig, the_example_in_recordings_loads) {
+    const RigConfig c =
+        load_rig(std::string(MIRAGE_SOURCE_DIR) + "/recordings/rigs/car-five-lidars.yaml");
+    EXPECT_EQ(c.sensors.size(), 5u);
+    EXPECT_EQ(c.trajectory, "demo-car");
+}
+
+// `from` replaced by `to` in the good file must fail with a message holding every `want`.
+void expect_refused(const std::string& from, const std::string& to,
+                    std::initializer_list<const char*> want) {
+    std::string text = kGood;
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    try {
+        (void)load_rig("car.yaml", &text);
+        ADD_FAILURE() << "accepted: " << to;
+    } catch (const ConfigError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("rig 'car.yaml'"), std::string::npos) << m;
+        for (const char* w : want) EXPECT_NE(m.find(w), std::string::npos) << w << " in: " << m;
+    }
+}
+
+TEST(RigConfig, mistakes_name_the_key_path_and_line) {
+    expect_refused("threads: 2", "threads: 2\ncontrol: {}", {"control: unknown key", "(line 6)"});
+    expect_refused("    rpm: 900", "    rpm: 9000", {"sensors[0].rpm", "(line 10)"});
+    expect_refused("return_mode: dual", "return_mode: both",
+                   {"sensors[0].return_mode", "strongest, last or dual", "(line 9)"});
+    expect_refused("[1, 0.5, 0.3]", "[1, 0.5]", {"sensors[0].mount.lever_arm", "3 numbers"});
+    expect_refused("[1, 0.5, 0.3]", "[1, 500, 0.3]", {"sensors[0].mount.lever_arm[1]"});
+    expect_refused("ports: {data: 7502, imu: 7503}", "ports: {imu: 7503}",
+                   {"sensors[1].ports.data", "missing"});
+    expect_refused("    to: 127.0.0.1\n    source_port", "    source_port",
+                   {"sensors[0]", "nowhere to go"});
+    expect_refused("name: left", "name: 'le ft'", {"sensors[0].name", "letters"});
+    expect_refused("duration: 2.5", "duration: -1", {"duration", "positive"});
+    expect_refused("navigation:\n  trajectory", "navigation:\n  nav", {"navigation.nav"});
+    expect_refused("sensors:", "sensor_list:", {"sensor_list: unknown key"});
+    expect_refused("scene: yard.yaml", "scene: [a, b]", {"scene", "non-empty string"});
+    expect_refused("duration: 2.5", "duration: 2.5\nduration: 3", {"duplicate key"});
+    expect_refused("threads: 2\n", "threads: 2\n  oops: [\n", {"YAML syntax error", "line"});
+}
+
+TEST(RigConfig, two_sensors_may_not_claim_one_port) {
+    expect_refused("name: roof", "name: left", {"sensors[1].name", "'left' is also sensors[0]"});
+    expect_refused(
+        "{data: 7502, imu: 7503}", "{data: 7502, imu: 8308}",
+        {"sensors[1].ports.imu", "destination 127.0.0.1:8308", "claimed by sensor 'left'"});
+    expect_refused("{data: 7502, imu: 7503}", "{data: 2368}",
+                   {"sensors[1].ports.data", "127.0.0.1:2368"});
+    expect_refused("    pcap: out/roof.pcap", "    pcap: out/roof.pcap\n    source_port: 40001",
+                   {"sensors[1].source_port", "source port 40001"});
+}
+
+TEST(RigConfig, the_same_port_on_another_host_is_no_clash) {
+    std::string text = kGood;
+    text.replace(text.find("{data: 7502, imu: 7503}"), 23, "{data: 2368}");
+    text.replace(text.rfind("to: 127.0.0.1"), 13, "to: 127.0.0.2");
+    EXPECT_NO_THROW((void)load_rig("car.yaml", &text));
+}
+
+}  // namespace
+}  // namespace mirage::rig
