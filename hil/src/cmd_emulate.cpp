@@ -23,16 +23,6 @@
 namespace mirage::hil {
 namespace {
 
-// "gps:<seconds>.<ns>" of the host's clock now, whole ms: a live fake sensor stamps the present.
-std::string gps_now_spec() {
-    const auto unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                             std::chrono::system_clock::now().time_since_epoch())
-                             .count();
-    const std::int64_t gps_ns =
-        core::gps_from_unix_ns(unix_ns / 1'000'000 * 1'000'000).time_since_epoch().count();
-    return fmt::format("gps:{}.{:09d}", gps_ns / 1'000'000'000, gps_ns % 1'000'000'000);
-}
-
 std::string default_side_path(const std::string& pcap, const std::string& ext) {
     std::filesystem::path p(pcap);
     p.replace_extension(ext);

@@ -17,5 +17,6 @@ void register_live(CLI::App& app);
 void register_fake_ins(CLI::App& app);
 void register_replay(CLI::App& app);
 void register_record(CLI::App& app);
+void register_rig(CLI::App& app);
 
 }  // namespace mirage::hil

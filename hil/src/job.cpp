@@ -66,6 +66,15 @@ scene::DemoTownOptions demo_options(const std::string& spec) {
 
 }  // namespace
 
+std::string gps_now_spec() {
+    const auto unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+    const std::int64_t gps_ns =
+        core::gps_from_unix_ns(unix_ns / 1'000'000 * 1'000'000).time_since_epoch().count();
+    return fmt::format("gps:{}.{:09d}", gps_ns / 1'000'000'000, gps_ns % 1'000'000'000);
+}
+
 bool is_demo_trajectory(const std::string& spec) {
     return spec == "demo-car" || spec == "demo-flight" || spec == "demo-camouflage";
 }

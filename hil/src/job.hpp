@@ -54,6 +54,9 @@ struct JobInputs {
 
 void add_job_options(CLI::App& app, JobInputs& in, bool with_sensor_and_trajectory = true);
 
+// "gps:<seconds>.<ns>" of the host's clock now, whole ms: a live fake sensor stamps the present.
+std::string gps_now_spec();
+
 // demo-car, demo-flight, demo-camouflage: trajectories of the demo town (--scene demo only).
 bool is_demo_trajectory(const std::string& spec);
 

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     mirage::hil::register_fake_ins(app);
     mirage::hil::register_replay(app);
     mirage::hil::register_record(app);
+    mirage::hil::register_rig(app);
     if (argc > 1 && argv[1][0] != '-' && !known_command(app, argv[1])) {
         std::fprintf(stderr, "mirage: unknown command '%s' (mirage --help lists them)\n", argv[1]);
         return 2;

@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: Apache-2.0
+// `mirage rig FILE`: a vehicle's lidars from one rig file (docs/rig.md) — every sensor rendered
+// and paced in one process from one trajectory on one sensor clock: all outputs are anchored to
+// the same first-pulse time at the same host instant. `--check` prints the effective
+// configuration and opens nothing.
+#include <fmt/format.h>
+#include <pthread.h>
+#include <sys/resource.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "commands.hpp"
+#include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
+#include "mirage/output/packet_output.hpp"
+#include "mirage/output/packetizer_sink.hpp"
+#include "mirage/udp/shared_sender.hpp"
+#include "rig_plan.hpp"
+#include "stop_signal.hpp"
+
+namespace mirage::hil {
+namespace {
+
+// From anchoring to the first send: every sensor's renderer starts at once on a few cores, so the
+// rig waits longer than one `mirage emulate` (100 ms) before its first packet is due.
+constexpr core::Nanos kRigStartLead{500'000'000};
+
+// One sensor of the running rig: its output, encoder and what its thread measured.
+struct RigRun {
+    RigSensor* sensor = nullptr;
+    std::unique_ptr<output::PacketOutput> out;
+    wire::WireSetup wire;
+    std::atomic<std::uint64_t> packets{0};
+    render::RenderStats stats;
+    output::PacketOutputTotals totals;
+    std::string error;
+};
+
+double process_cpu_s() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    const auto tv = [](const timeval& t) { return double(t.tv_sec) + double(t.tv_usec) / 1e6; };
+    return tv(ru.ru_utime) + tv(ru.ru_stime);
+}
+
+std::unique_ptr<RigRun> open_run(RigSensor& s, const std::shared_ptr<udp::SharedSender>& sender) {
+    auto r = std::make_unique<RigRun>();
+    r->sensor = &s;
+    output::PacketOutputOptions po;
+    po.realtime = true;
+    po.status_line = false;
+    po.shared_sender = sender;
+    po.pcap_path = s.entry.pcap;
+    output::route_streams(po, s.ports, s.entry.to, s.entry.source_port);
+    r->out = std::make_unique<output::PacketOutput>(po);
+    RigRun* raw = r.get();
+    r->wire = wire::make_wire(
+        wire_context(s.job), s.wire,
+        [raw](const wire::PacketView& p) {
+            (*raw->out)(p);
+            raw->packets.fetch_add(1, std::memory_order_relaxed);
+        },
+        s.entry.to);
+    return r;
+}
+
+// "\rrig: roof 1280 pkt/s | fl 754 pkt/s …" once a second until `done`.
+void status_loop(const std::vector<std::unique_ptr<RigRun>>& runs, const std::atomic<bool>& done) {
+    std::vector<std::uint64_t> last(runs.size(), 0);
+    auto next = std::chrono::steady_clock::now();
+    while (!done.load()) {
+        next += std::chrono::seconds(1);
+        while (!done.load() && std::chrono::steady_clock::now() < next)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        std::string line = "\rrig:";
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const std::uint64_t n = runs[i]->packets.load(std::memory_order_relaxed);
+            line += fmt::format(" {} {} pkt/s{}", runs[i]->sensor->entry.name, n - last[i],
+                                i + 1 < runs.size() ? " |" : "   ");
+            last[i] = n;
+        }
+        std::fputs(line.c_str(), stderr);
+        std::fflush(stderr);
+    }
+    std::fputs("\n", stderr);
+}
+
+void print_summary(const std::vector<std::unique_ptr<RigRun>>& runs, double wall_s, double cpu_s,
+                   bool interrupted) {
+    std::uint64_t late = 0, failed = 0;
+    for (const auto& r : runs) {
+        const auto& t = r->totals;
+        const double cpu = r->stats.cpu_rays_s + r->stats.cpu_trace_s + r->stats.cpu_shade_s +
+                           r->stats.cpu_output_s;
+        std::printf(
+            "  %s: %llu packets (%.2f MB), %llu points; sent %llu, failed sends %llu, pcap %llu; "
+            "lateness p50 %.0f µs, p99 %.0f µs, worst %.0f µs, late %llu; pipeline CPU %.2f s "
+            "(%.1f %% of one core)%s%s\n",
+            r->sensor->entry.name.c_str(), static_cast<unsigned long long>(t.packets),
+            double(t.bytes) / 1e6, static_cast<unsigned long long>(r->stats.points),
+            static_cast<unsigned long long>(t.sent), static_cast<unsigned long long>(t.send_failed),
+            static_cast<unsigned long long>(t.pcap_packets), double(t.p50.count()) / 1e3,
+            double(t.p99.count()) / 1e3, double(t.worst_late.count()) / 1e3,
+            static_cast<unsigned long long>(t.late), cpu, wall_s > 0 ? 100 * cpu / wall_s : 0.0,
+            r->error.empty() ? "" : "; FAILED: ", r->error.c_str());
+        late += t.late;
+        failed += t.send_failed;
+    }
+    std::printf(
+        "mirage rig: %zu sensors for %.3f s; process CPU %.2f s (%.0f %% of one core); late "
+        "%llu, failed sends %llu%s\n",
+        runs.size(), wall_s, cpu_s, wall_s > 0 ? 100 * cpu_s / wall_s : 0.0,
+        static_cast<unsigned long long>(late), static_cast<unsigned long long>(failed),
+        interrupted ? " (interrupted)" : "");
+}
+
+void run_rig(RigPlan& plan, bool status, int rt_priority) {
+    // One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
+    // the senders of a 2-core machine would wake each other late (docs/rig.md §2).
+    udp::SharedSenderConfig sc;
+    sc.fifo_priority = rt_priority;
+    auto sender = std::make_shared<udp::SharedSender>(sc);
+    if (rt_priority > 0 && !sender->fifo())
+        std::fprintf(stderr, "mirage rig: no SCHED_FIFO for the sender (%s)\n",
+                     sender->fifo_error().c_str());
+    std::vector<std::unique_ptr<RigRun>> runs;
+    for (auto& s : plan.sensors) runs.push_back(open_run(*s, sender));
+    // One sensor clock: every output's first pulse at the same host instant.
+    const core::GpsTime t0 = plan.sensors.front()->job.options.start;
+    const std::int64_t anchor = hostclock::monotonic_ns() + kRigStartLead.count();
+    for (auto& r : runs) r->out->anchor(t0, anchor);
+    std::fprintf(stderr, "%s", describe(plan).c_str());
+    const auto& stop = install_stop_signal();
+    const double cpu0 = process_cpu_s();
+    const auto w0 = std::chrono::steady_clock::now();
+    std::vector<std::thread> threads;
+    for (auto& r : runs)
+        threads.emplace_back([&r, &stop] {
+            pthread_setname_np(pthread_self(), "mirage-rig");
+            try {
+                output::PacketizerSink sink(*r->wire.packetizer);
+                r->stats = render::render(r->sensor->job.setup(), sink, {}, &stop);
+                r->totals = r->out->finish();
+            } catch (const std::exception& e) {
+                r->error = e.what();
+            }
+        });
+    std::atomic<bool> done{false};
+    std::thread status_thread;
+    if (status) status_thread = std::thread([&] { status_loop(runs, done); });
+    for (auto& t : threads) t.join();
+    done = true;
+    if (status_thread.joinable()) status_thread.join();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    print_summary(runs, wall, process_cpu_s() - cpu0, stop.load());
+    for (const auto& r : runs)
+        if (!r->error.empty())
+            throw IoError(fmt::format("rig: sensor '{}': {}", r->sensor->entry.name, r->error));
+}
+
+}  // namespace
+
+void register_rig(CLI::App& app) {
+    auto* cmd = app.add_subcommand(
+        "rig", "Run a vehicle's lidars from a rig file: one scene, one trajectory, one clock");
+    struct Opts {
+        std::string file, duration;
+        bool check = false, no_status = false;
+        int rt_priority = 0;
+    };
+    auto o = std::make_shared<Opts>();
+    cmd->add_option("file", o->file, "Rig file (YAML; docs/rig.md)")->required();
+    cmd->add_flag("--check", o->check,
+                  "Validate the rig file and print the effective configuration; send nothing");
+    cmd->add_option("--duration", o->duration, "Seconds to run (overrides the rig file's)");
+    cmd->add_flag("--no-status", o->no_status, "No status line on stderr");
+    cmd->add_option("--rt-priority", o->rt_priority,
+                    "Send from a SCHED_FIFO thread at this priority (1-99; needs CAP_SYS_NICE)")
+        ->check(CLI::Range(0, 99));
+    cmd->callback([o] {
+        const rig::RigConfig config = rig::load_rig(o->file);
+        RigPlan plan = plan_rig(config, o->duration);
+        if (o->check) {
+            std::printf("%s", describe(plan).c_str());
+            return;
+        }
+        run_rig(plan, !o->no_status, o->rt_priority);
+    });
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "rig_plan.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "mirage/core/error.hpp"
+#include "mirage/core/time.hpp"
+#include "mirage/output/packet_output.hpp"
+
+namespace mirage::hil {
+namespace {
+
+std::unique_ptr<RigSensor> plan_sensor(const rig::SensorEntry& e, const JobInputs& common,
+                                       const std::shared_ptr<const scene::Scene>& scene,
+                                       double scene_s, const RigPlan& plan) {
+    auto r = std::make_unique<RigSensor>();
+    r->entry = e;
+    JobInputs in = common;
+    in.sensor = e.sensor;
+    in.lever_arm.assign(e.lever_arm.begin(), e.lever_arm.end());
+    in.boresight.assign(e.boresight.begin(), e.boresight.end());
+    r->job = load_job_with_scene(in, scene, scene_s, plan.sensors.empty());
+    if (!plan.sensors.empty()) r->job.renderer = plan.sensors.front()->job.renderer;  // one BVH
+    r->wire.return_mode = e.return_mode;
+    r->wire.profile = e.profile;
+    wire::prepare_sensor(r->job.sensor, r->wire, e.rpm);
+    set_render_lead(r->job, output::kEmulateRenderLead);
+    const bool ouster = r->job.sensor.wire.family == sensor::WireFamily::Ouster;
+    r->ports = output::sensor_ports(ouster, e.ports.data, e.ports.position, e.ports.imu);
+    r->wire.position_packets = r->ports.position != 0;
+    r->wire.imu_packets = r->ports.imu != 0;
+    // The encoder checks the model's settings (rpm range, profile); its packets go nowhere here.
+    const wire::WireSetup w = wire::make_wire(
+        wire_context(r->job), r->wire, [](const wire::PacketView&) {}, e.to);
+    r->vendor = w.vendor;
+    r->packets_per_second = w.packets_per_second;
+    return r;
+}
+
+}  // namespace
+
+RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override) {
+    RigPlan plan;
+    plan.config = config;
+    JobInputs common;
+    common.trajectory = config.trajectory;
+    common.duration = duration_override.empty() ? config.duration : duration_override;
+    common.start = config.start;
+    common.threads = config.threads;
+    const bool is_static = common.trajectory.starts_with("static:");
+    plan.forever = is_static && common.duration.empty();
+    if (plan.forever) common.duration = "86400";  // until interrupted (a day at most)
+    if (common.start.empty() || common.start == "now")
+        if (is_static || is_demo_trajectory(common.trajectory))
+            common.start = gps_now_spec();  // one start for every sensor
+    double scene_s = 0;
+    const auto scene = load_scene_timed(config.scene, scene_s);
+    for (std::size_t i = 0; i < config.sensors.size(); ++i) {
+        const rig::SensorEntry& e = config.sensors[i];
+        try {
+            plan.sensors.push_back(plan_sensor(e, common, scene, scene_s, plan));
+        } catch (const ConfigError& err) {
+            throw ConfigError(fmt::format("rig '{}': sensors[{}] ('{}', line {}): {}", config.file,
+                                          i, e.name, e.line, err.what()));
+        }
+    }
+    return plan;
+}
+
+std::string describe(const RigPlan& plan) {
+    const rig::RigConfig& c = plan.config;
+    const Job& first = plan.sensors.front()->job;
+    std::string s = fmt::format(
+        "rig '{}': scene {}, trajectory {}, first pulse gps:{:.3f}, {}, {} render thread(s) per "
+        "sensor\n",
+        c.file, c.scene, c.trajectory, double(first.options.start.time_since_epoch().count()) / 1e9,
+        plan.forever ? "until Ctrl-C"
+                     : fmt::format("{:.3f} s", double(first.options.duration.count()) / 1e9),
+        c.threads);
+    double total = 0;
+    for (const auto& r : plan.sensors) {
+        const rig::SensorEntry& e = r->entry;
+        total += r->packets_per_second;
+        s += fmt::format(
+            "  {}: {} {} ({}), {:.1f} data packets/s; lever arm [{}, {}, {}] m, boresight [{}, "
+            "{}, {}] deg\n    -> {}{}{}{}{}\n",
+            e.name, r->vendor, r->job.sensor.name,
+            r->vendor == "ouster" ? "profile " + e.profile : "return mode " + e.return_mode,
+            r->packets_per_second, e.lever_arm[0], e.lever_arm[1], e.lever_arm[2], e.boresight[0],
+            e.boresight[1], e.boresight[2],
+            e.to.empty() ? "(no network)" : fmt::format("{}: data {}", e.to, r->ports.data),
+            e.to.empty() || r->ports.position == 0
+                ? ""
+                : fmt::format(", position {}", r->ports.position),
+            e.to.empty() || r->ports.imu == 0 ? "" : fmt::format(", imu {}", r->ports.imu),
+            e.source_port ? fmt::format(", from port {}", e.source_port) : "",
+            e.pcap.empty() ? "" : ", pcap " + e.pcap);
+    }
+    s += fmt::format("  {} sensors, {:.1f} data packets/s in all\n", plan.sensors.size(), total);
+    return s;
+}
+
+}  // namespace mirage::hil

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: Apache-2.0
+// `mirage rig` (issue 22 items 1–2): two VLP-16s on one platform in the walled yard, each on its
+// own mount and ports, streamed by one process on one sensor clock to two loopback receivers.
+// Every point, put in the world with platform pose ∘ that sensor's mount, lies on the yard; both
+// streams carry the device's packet count and the same packet times. `--check` and the errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+
+#include "cli_run.hpp"
+#include "live_yard.hpp"
+#include "mirage/core/pose.hpp"
+#include "test_paths.hpp"
+
+namespace mirage::test {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+std::string rig_text(std::uint16_t left_port, std::uint16_t rear_port) {
+    return "scene: yard.yaml\n"
+           "navigation: {trajectory: 'static:2,-3,1.8,0,0,30'}\n"
+           "duration: 1\n"
+           "sensors:\n"
+           "  - name: left\n"
+           "    sensor: vlp16\n"
+           "    mount: {lever_arm: [1, 0.5, 0.3], boresight: [0, 0, 90]}\n"
+           "    to: 127.0.0.1\n"
+           "    ports: {data: " +
+           std::to_string(left_port) +
+           "}\n"
+           "  - name: rear\n"
+           "    sensor: vlp16\n"
+           "    mount: {lever_arm: [-1, 0, 0.5], boresight: [0, 10, 180]}\n"
+           "    to: 127.0.0.1\n"
+           "    ports: {data: " +
+           std::to_string(rear_port) + "}\n";
+}
+
+struct SensorCheck {
+    std::size_t packets = 0, points = 0;
+    double median = 0, p99 = 0;
+    std::uint32_t first_timestamp_us = 0;
+};
+
+// Points of one stream against the yard with the sensor's world pose.
+SensorCheck check(const std::vector<std::vector<std::uint8_t>>& packets, const core::Pose& pose) {
+    SensorCheck c;
+    std::vector<double> err;
+    velodyne::DecodedPacket dp;
+    for (const auto& p : packets) {
+        if (p.size() != 1206 || velodyne::decode_data(p, nullptr, dp) != velodyne::DecodeStatus::Ok)
+            continue;
+        if (c.packets++ == 0) c.first_timestamp_us = dp.timestamp_us;
+        for (const auto& f : dp.firing)
+            if (f.distance_m > 0) err.push_back(distance_to_yard(pose.apply({f.x, f.y, f.z})));
+    }
+    c.points = err.size();
+    if (!err.empty()) {
+        std::sort(err.begin(), err.end());
+        c.median = err[err.size() / 2];
+        c.p99 = err[err.size() * 99 / 100];
+    }
+    return c;
+}
+
+core::Pose mount(const Eigen::Vector3d& lever, double roll, double pitch, double yaw) {
+    return {lever, core::quaternion_from_rpy(roll * kDeg, pitch * kDeg, yaw * kDeg)};
+}
+
+TEST(Rig, two_mounted_sensors_stream_on_one_clock_onto_the_yard) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    Collector left, rear;
+    { std::ofstream(tmp.file("rig.yaml")) << rig_text(left.port(), rear.port()); }
+    const RunResult r = run_mirage("rig " + tmp.file("rig.yaml") + " --no-status");
+    left.stop();
+    rear.stop();
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const core::Pose platform{{2, -3, 1.8}, core::quaternion_from_rpy(0, 0, 30 * kDeg)};
+    const SensorCheck l = check(left.packets(), platform * mount({1, 0.5, 0.3}, 0, 0, 90));
+    const SensorCheck b = check(rear.packets(), platform * mount({-1, 0, 0.5}, 0, 10, 180));
+    std::printf(
+        "[ rig ] left: %zu packets, %zu points, median %.4f m, p99 %.4f m; rear: %zu packets, "
+        "%zu points, median %.4f m, p99 %.4f m; first packet times %u / %u µs past the hour\n%s",
+        l.packets, l.points, l.median, l.p99, b.packets, b.points, b.median, b.p99,
+        l.first_timestamp_us, b.first_timestamp_us, r.output.c_str());
+    // 1 s of VLP-16: 753.5 data packets (the last may fall either side of the end).
+    for (const SensorCheck* c : {&l, &b}) {
+        EXPECT_GE(c->packets, 753u);
+        EXPECT_LE(c->packets, 754u);
+        EXPECT_GT(c->points, 200'000u);
+        EXPECT_LT(c->median, 0.02);  // the sensor's range noise is on (σ a few cm)
+        EXPECT_LT(c->p99, 0.1);
+    }
+    EXPECT_EQ(l.first_timestamp_us, b.first_timestamp_us);  // one sensor clock
+    EXPECT_NE(r.output.find("left: 7"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("failed sends 0"), std::string::npos) << r.output;
+    // Swapping the mounts puts the points off the walls: the mounts are each sensor's own.
+    EXPECT_GT(check(left.packets(), platform * mount({-1, 0, 0.5}, 0, 10, 180)).p99, 0.5);
+}
+
+TEST(Rig, check_prints_the_effective_configuration_and_sends_nothing) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    Collector left;
+    { std::ofstream(tmp.file("rig.yaml")) << rig_text(left.port(), 2399); }
+    const RunResult r = run_mirage("rig " + tmp.file("rig.yaml") + " --check");
+    left.stop();
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(left.packets().empty());
+    EXPECT_NE(r.output.find("left: velodyne vlp16 (return mode strongest), 753.5 data packets/s; "
+                            "lever arm [1, 0.5, 0.3] m, boresight [0, 0, 90] deg"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("-> 127.0.0.1: data 2399"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("2 sensors, 1507.0 data packets/s in all"), std::string::npos)
+        << r.output;
+}
+
+TEST(Rig, errors_name_the_file_the_sensor_and_the_line_and_exit_2) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    std::string text = rig_text(2368, 2369);
+    text.replace(text.rfind("sensor: vlp16"), 13, "sensor: vlp17");
+    { std::ofstream(tmp.file("rig.yaml")) << text; }
+    const RunResult r = run_mirage("rig " + tmp.file("rig.yaml") + " --check");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("sensors[1] ('rear', line 10)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("vlp17"), std::string::npos) << r.output;
+    const RunResult m = run_mirage("rig " + tmp.file("missing.yaml"));
+    EXPECT_EQ(m.exit_code, 2) << m.output;
+    EXPECT_NE(m.output.find("cannot open"), std::string::npos) << m.output;
+}
+
+}  // namespace
+}  // namespace mirage::test
