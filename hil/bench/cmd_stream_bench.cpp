@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -27,6 +28,7 @@
 #include "mirage/hostclock/host_clock.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "mirage/output/packetizer_sink.hpp"
+#include "mirage/rig/rig_config.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 #include "mirage/udp/shared_sender.hpp"
@@ -34,6 +36,7 @@
 #include "mirage/velodyne/model.hpp"
 #include "mirage/velodyne/packetizer.hpp"
 #include "mirage/wire/setup.hpp"
+#include "spin_gaps.hpp"
 #include "stream_bench.hpp"
 #include "stream_report.hpp"
 #include "text_file.hpp"
@@ -63,6 +66,15 @@ constexpr Case kStreamCases[] = {
     {"VLP-16 strongest", "vlp16", "strongest", "LEGACY"},
     {"HDL-64E S3 dual", "hdl64e-s3", "dual", "LEGACY"},
     {"OS1-128 2048x10 RNG19", "os1-128-2048x10", "strongest", kRng19},
+};
+
+// One stream of the real-time run: its label, job inputs (sensor, trajectory, mount) and wire
+// settings; the three benchmark cases or a rig file's sensors.
+struct StreamSpec {
+    std::string label;
+    JobInputs in;
+    wire::WireOptions wire;
+    double rpm = 0;
 };
 
 wire::WireOptions wire_options(const Case& c) {
@@ -197,7 +209,7 @@ EncoderRow bench_encoder(const Case& c, const std::shared_ptr<const scene::Scene
 
 // One emulated sensor: its pipeline, output and loopback receiver, and what each side measured.
 struct StreamRun {
-    Case c{};
+    std::string label;
     Job job;
     wire::WireSetup wire;
     std::unique_ptr<udp::UdpReceiver> rx;
@@ -275,7 +287,7 @@ void receive_loop(StreamRun& r, std::int64_t rt_minus_mono, const std::atomic<bo
 
 StreamRow summarize_stream(const StreamRun& r, double seconds) {
     StreamRow s;
-    s.label = r.c.label;
+    s.label = r.label;
     s.device_packets_per_s = r.wire.packets_per_second;
     s.expected_data = seconds * r.wire.packets_per_second;
     s.data_sent = r.data_handed;
@@ -307,6 +319,10 @@ StreamRow summarize_stream(const StreamRun& r, double seconds) {
         s.late_last_s = static_cast<double>(r.late_at.back()) / 1e9;
     }
     s.wire = summarize(r.wire_late);
+    if (!r.wire_late.empty())
+        s.wire_late_50us_share = double(std::count_if(r.wire_late.begin(), r.wire_late.end(),
+                                                      [](std::int64_t x) { return x > 50'000; })) /
+                                 double(r.wire_late.size());
     s.pulses = r.stats.pulses;
     s.points = r.stats.points;
     s.cpu_render_s = r.stats.cpu_rays_s + r.stats.cpu_trace_s + r.stats.cpu_shade_s;
@@ -320,7 +336,7 @@ StreamRow summarize_stream(const StreamRun& r, double seconds) {
 }
 
 StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, double seconds_scene,
-                          const std::string& seconds, const std::string& trajectory,
+                          const std::vector<StreamSpec>& specs, const std::string& seconds,
                           int render_threads, std::size_t chunk_pulses, int fifo_priority,
                           bool shared, int spin_margin_us) {
     StreamsResult res;
@@ -340,24 +356,22 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
     }
     res.render_threads = render_threads;
     res.chunk_pulses = chunk_pulses;
-    res.trajectory = trajectory;
+    res.trajectory = specs.empty() ? std::string() : specs.front().in.trajectory;
     res.render_lead_ms =
         std::chrono::duration<double, std::milli>(output::kEmulateRenderLead).count();
     const double secs = static_cast<double>(parse_seconds(seconds, "--seconds").count()) / 1e9;
     std::vector<std::unique_ptr<StreamRun>> runs;
-    for (const Case& c : kStreamCases) {
+    for (const StreamSpec& spec : specs) {
         auto r = std::make_unique<StreamRun>();
-        r->c = c;
-        JobInputs in;
-        in.sensor = c.sensor;
-        in.trajectory = trajectory;
+        r->label = spec.label;
+        JobInputs in = spec.in;
         in.duration = seconds;
         in.threads = render_threads;
         r->job = load_job_with_scene(in, scene, seconds_scene, runs.empty());
         if (!runs.empty()) r->job.renderer = runs.front()->job.renderer;  // one BVH for all
         r->job.options.chunk_pulses = chunk_pulses;
-        const wire::WireOptions wo = wire_options(c);
-        wire::prepare_sensor(r->job.sensor, wo, 0);
+        const wire::WireOptions& wo = spec.wire;
+        wire::prepare_sensor(r->job.sensor, wo, spec.rpm);
         set_render_lead(r->job, output::kEmulateRenderLead);  // as emulate
         r->rx = std::make_unique<udp::UdpReceiver>();
         const bool ouster = r->job.sensor.wire.family == sensor::WireFamily::Ouster;
@@ -454,6 +468,40 @@ ProbeRow run_probe(double seconds, int fifo_priority) {
     return row;
 }
 
+// The floor: spin on the clock for `seconds` now; the gaps are added to `gaps`.
+void spin_floor(double seconds, std::vector<Gap>& gaps, std::int64_t& span) {
+    const std::int64_t start = hostclock::monotonic_ns() + 1'000'000;
+    const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
+    const std::vector<Gap> g = spin_gaps(start, end);
+    gaps.insert(gaps.end(), g.begin(), g.end());
+    span += end - start;
+}
+
+Floor summarize_floor(const std::vector<Gap>& gaps, std::int64_t span) {
+    Floor f;
+    f.seconds = double(span) / 1e9;
+    f.share_50us = delayed_share(gaps, span, 50'000);
+    f.p99_us = double(delay_exceeded_by(gaps, span, 0.01)) / 1e3;
+    for (const Gap& g : gaps) f.worst_us = std::max(f.worst_us, double(g.end - g.begin) / 1e3);
+    return f;
+}
+
+// A rig file's sensor as a stream: its sensor, mount and wire settings on the rig's trajectory
+// (its destinations are replaced by the benchmark's loopback receivers).
+StreamSpec rig_stream(const rig::SensorEntry& e, const rig::RigConfig& c) {
+    StreamSpec spec;
+    spec.label = e.name;
+    spec.in.sensor = e.sensor;
+    spec.in.trajectory = c.trajectory;
+    spec.in.start = c.start == "now" ? std::string() : c.start;
+    spec.in.lever_arm.assign(e.lever_arm.begin(), e.lever_arm.end());
+    spec.in.boresight.assign(e.boresight.begin(), e.boresight.end());
+    spec.wire.return_mode = e.return_mode;
+    spec.wire.profile = e.profile;
+    spec.rpm = e.rpm;
+    return spec;
+}
+
 }  // namespace
 
 void register_stream_bench(CLI::App& app) {
@@ -471,6 +519,8 @@ void register_stream_bench(CLI::App& app) {
         std::string sender = "shared";
         int spin_margin_us = 50;
         std::string probe_seconds;  // empty: as --seconds
+        std::string rig;            // a rig file's sensors instead of the three cases
+        double floor_seconds = 10;  // the spinning thread's, around the streams
         bool quick = false;
     };
     auto o = std::make_shared<Opts>();
@@ -505,6 +555,16 @@ void register_stream_bench(CLI::App& app) {
                     "less CPU, more exposure to late timer wake-ups)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
+    cmd->add_option("--rig", o->rig,
+                    "Stream a rig file's sensors (scene, trajectory, mounts, wire settings; "
+                    "docs/rig.md) instead of the three cases, each to its own loopback receiver; "
+                    "no encoder section")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--floor-seconds", o->floor_seconds,
+                    "The machine's floor: a thread spinning on the clock, half this long just "
+                    "before the streams and half just after (0: none; --quick: 1)")
+        ->check(CLI::Range(0.0, 600.0))
+        ->capture_default_str();
     cmd->add_flag("--quick", o->quick, "Short run for CI: 3 s streams, short encoder runs");
     cmd->callback([o] {
         Report rep;
@@ -523,20 +583,47 @@ void register_stream_bench(CLI::App& app) {
         std::printf("mirage stream-bench: %s, %u cores, load %s\n", rep.machine.cpu.c_str(),
                     rep.machine.cores, rep.machine.load.c_str());
         std::fflush(stdout);
-        auto scene = load_scene_timed("demo", rep.scene_seconds);
+        std::vector<StreamSpec> specs;
+        std::optional<rig::RigConfig> rig_config;
+        if (!o->rig.empty()) rig_config = rig::load_rig(o->rig);
+        auto scene = load_scene_timed(rig_config ? rig_config->scene : "demo", rep.scene_seconds);
+        if (rig_config) {
+            rep.streams.rig = o->rig;
+            for (const rig::SensorEntry& e : rig_config->sensors)
+                specs.push_back(rig_stream(e, *rig_config));
+        } else {
+            for (const Case& c : kStreamCases) {
+                StreamSpec spec{c.label, {}, wire_options(c), 0};
+                spec.in.sensor = c.sensor;
+                spec.in.trajectory = o->trajectory;
+                specs.push_back(spec);
+            }
+        }
 
-        // 1. Encoder throughput.
+        // 1. Encoder throughput (not with --rig: the rig's streams are the question).
         const core::Nanos span = o->quick ? core::Nanos{std::chrono::milliseconds(300)}
                                           : core::Nanos{std::chrono::seconds(3)};
-        for (const Case& c : kEncoderCases) rep.encoder.push_back(bench_encoder(c, scene, span));
+        if (!rig_config)
+            for (const Case& c : kEncoderCases)
+                rep.encoder.push_back(bench_encoder(c, scene, span));
 
-        // 2. Three streams at once.
-        std::printf("streaming %s s: VLP-16, HDL-64E S3 dual and OS1-128 2048x10 at once...\n",
-                    rep.seconds.c_str());
+        // 2. The streams at once.
+        std::printf("streaming %s s: %zu sensors at once%s...\n", rep.seconds.c_str(), specs.size(),
+                    rig_config ? (" (rig " + o->rig + ")").c_str() : "");
         std::fflush(stdout);
-        rep.streams = run_streams(scene, rep.scene_seconds, rep.seconds, o->trajectory,
-                                  o->render_threads, o->chunk_pulses, o->fifo_priority,
-                                  o->sender == "shared", o->spin_margin_us);
+        // The floor in the same run: half just before the streams, half just after.
+        const double floor_s = o->quick ? 1.0 : o->floor_seconds;
+        std::vector<Gap> floor_gaps;
+        std::int64_t floor_span = 0;
+        if (floor_s > 0) spin_floor(floor_s / 2, floor_gaps, floor_span);
+        rep.streams = run_streams(scene, rep.scene_seconds, specs, rep.seconds, o->render_threads,
+                                  o->chunk_pulses, o->fifo_priority, o->sender == "shared",
+                                  o->spin_margin_us);
+        if (floor_s > 0) {
+            spin_floor(floor_s / 2, floor_gaps, floor_span);
+            rep.floor = summarize_floor(floor_gaps, floor_span);
+        }
+        rep.streams.rig = o->rig;
 
         // 3. Pacing probe, by default as long as the streams (--quick: 1 s each, to keep the
         // CI test short).

@@ -42,15 +42,21 @@ std::string sender_description(const StreamsResult& s) {
                                       : std::string("SCHED_OTHER"));
 }
 
+// "Three streams", or "The 5 sensors of rig 'car.yaml'".
+std::string streams_title(const StreamsResult& s) {
+    if (s.rig.empty()) return "Three streams";
+    return fmt::format("The {} sensors of rig '{}'", s.rows.size(), s.rig);
+}
+
 double share(double part_s, double wall_s) { return wall_s > 0 ? 100 * part_s / wall_s : 0.0; }
 
 void md_streams_intro(std::ostream& o, const Report& r) {
     const auto& s = r.streams;
     o << fmt::format(
-        "\n## Three streams at once in real time ({} s, trajectory {}, {} render worker "
+        "\n## {} at once in real time ({} s, trajectory {}, {} render worker "
         "thread(s) per stream, {} pulses per chunk, renderers up to {:.0f} ms ahead, {})\n\n",
-        r.seconds, s.trajectory, s.render_threads, s.chunk_pulses, fig(s.render_lead_ms),
-        sender_description(s));
+        streams_title(s), r.seconds, s.trajectory, s.render_threads, s.chunk_pulses,
+        fig(s.render_lead_ms), sender_description(s));
     o << fmt::format(
         "CPU used (getrusage user+sys / wall): {:.1f} % of one core ({:.2f} s CPU in {:.2f} s "
         "wall, {} cores).\n\n",
@@ -113,6 +119,25 @@ void md_lateness_and_cpu(std::ostream& o, const StreamsResult& s) {
         if (!t.error.empty()) o << fmt::format("\nError in {}: {}\n", t.label, t.error);
 }
 
+// Issue 22 item 3: receiver lateness p99 ≤ the floor's p99 + 20 µs; share of packets later than
+// 50 µs ≤ 1.5 × the floor's share of instants delayed by more than 50 µs.
+void md_floor(std::ostream& o, const Report& r) {
+    const Floor& f = r.floor;
+    if (f.seconds <= 0) return;
+    o << fmt::format(
+        "\n## Against the machine's floor\n\nFloor: a thread spinning on the clock for {:.1f} s "
+        "(half just before the streams, half just after): instants delayed by more than 50 µs "
+        "{:.3f} %, delay exceeded by 1 % of instants {:.0f} µs, longest gap {:.0f} µs.\n\n",
+        f.seconds, 100 * f.share_50us, f.p99_us, f.worst_us);
+    o << "| stream | receiver p99 µs | floor p99 + 20 µs | met | packets > 50 µs late % | 1.5 × "
+         "floor % | met |\n|---|---:|---:|---|---:|---:|---|\n";
+    for (const auto& t : r.streams.rows)
+        o << fmt::format("| {} | {:.1f} | {:.1f} | {} | {:.3f} | {:.3f} | {} |\n", t.label,
+                         us(t.wire.p99), f.p99_us + 20, yes_no(us(t.wire.p99) <= f.p99_us + 20),
+                         100 * t.wire_late_50us_share, 150 * f.share_50us,
+                         yes_no(t.wire_late_50us_share <= 1.5 * f.share_50us));
+}
+
 void md_probes(std::ostream& o, const Report& r) {
     if (r.probes.empty()) {
         o << "\n## Pacing probe\n\nNot run (--probe-seconds 0).\n";
@@ -150,13 +175,13 @@ void md_targets(std::ostream& o, const Report& r) {
         worst_p99 = std::max(worst_p99, t.wire.p99);
         worst_drift = std::max(worst_drift, std::abs(t.wire.drift));
     }
-    o << "\n## Targets (issue 3)\n\n";
+    o << (s.rig.empty() ? "\n## Targets (issue 3)\n\n" : "\n## Targets (issue 22, item 2)\n\n");
     o << fmt::format(
-        "- Three streams at once in real time on {} cores: {} (CPU {:.1f} % of one core; "
+        "- {} at once in real time on {} cores: {} (CPU {:.1f} % of one core; "
         "{} of {} data packets lost; {} packets handed to the sender more than 1 ms after their "
         "send time; rates within 0.5 %: {}).\n",
-        r.machine.cores, all_rt ? "met" : "NOT met", fig(s.cpu_percent()), lost_total, sent_total,
-        late_total, yes_no(rates_ok));
+        streams_title(s), r.machine.cores, all_rt ? "met" : "NOT met", fig(s.cpu_percent()),
+        lost_total, sent_total, late_total, yes_no(rates_ok));
     o << fmt::format(
         "- Pacing p99 ≤ 50 µs (receiver, worst stream, {} sender): {} ({:.1f} µs; machine load "
         "average at start {}).\n",
@@ -188,6 +213,7 @@ nlohmann::ordered_json streams_run_json(const StreamsResult& s) {
             {"chunk_pulses", s.chunk_pulses},
             {"render_lead_ms", s.render_lead_ms},
             {"trajectory", s.trajectory},
+            {"rig", s.rig},
             {"sender", s.shared ? "shared" : "per-stream"},
             {"fifo", s.fifo},
             {"spin_margin_us", s.spin_margin_us},
@@ -206,6 +232,7 @@ nlohmann::ordered_json stream_json(const StreamRow& t) {
             {"sent_data_packets", t.data_sent},
             {"received_data_packets", t.data_received},
             {"received_packets_per_s", t.rx_packets_per_s},
+            {"late_over_50us_share", t.wire_late_50us_share},
             {"rate_error", t.rate_error},
             {"sent_aux_packets", t.aux_sent},
             {"received_aux_packets", t.aux_received},
@@ -258,10 +285,11 @@ std::string stream_markdown(const Report& r) {
         "Machine: {}, {} cores, {}; load average at start {}. Run: --seconds {}{}.\n\n",
         r.machine.cpu, r.machine.cores, r.machine.kernel, r.machine.load, r.seconds,
         r.quick ? " --quick" : "");
-    md_encoder(o, r);
+    if (!r.encoder.empty()) md_encoder(o, r);
     md_streams_intro(o, r);
     md_stream_table(o, r.streams);
     md_lateness_and_cpu(o, r.streams);
+    md_floor(o, r);
     md_probes(o, r);
     md_targets(o, r);
     return o.str();
@@ -277,6 +305,11 @@ std::string stream_json(const Report& r) {
                                 {"seconds", std::strtod(r.seconds.c_str(), nullptr)},
                                 {"quick", r.quick},
                                 {"scene_seconds", r.scene_seconds},
+                                {"floor",
+                                 {{"seconds", r.floor.seconds},
+                                  {"delayed_share_over_50us", r.floor.share_50us},
+                                  {"p99_us", r.floor.p99_us},
+                                  {"worst_us", r.floor.worst_us}}},
                                 {"encoder", nlohmann::ordered_json::array()},
                                 {"streams_run", streams_run_json(r.streams)},
                                 {"streams", nlohmann::ordered_json::array()},

@@ -43,6 +43,7 @@ struct StreamRow {
     double handed_worst_ms = 0, handed_ahead_p50_ms = 0;
     double late_first_s = 0, late_last_s = 0;  // when (schedule time) the late ones fell
     LatenessSummary wire;
+    double wire_late_50us_share = 0;  // of the received packets, later than 50 µs
     std::uint64_t pulses = 0, points = 0;
     // Thread CPU seconds: render workers (rays + trace + shade) and the writer thread in the sink
     // (packet encoding, position / IMU fixes, the Pacer's final spin, send system calls).
@@ -53,6 +54,7 @@ struct StreamRow {
 
 struct StreamsResult {
     std::vector<StreamRow> rows;
+    std::string rig;  // the rig file streamed (stream-bench --rig), else the three cases
     double wall_s = 0, cpu_s = 0;
     int render_threads = 1;
     std::size_t chunk_pulses = 0;
@@ -79,8 +81,18 @@ struct ProbeRow {
     udp::PacingProbeReport report;
 };
 
+// The machine's floor, measured in the same run just before and just after the streams: the
+// delays of a thread that only spins on the clock (what mirage-sched-gaps measures).
+struct Floor {
+    double seconds = 0;     // spun in all (0: not measured)
+    double share_50us = 0;  // instants a send due then would reach more than 50 µs late
+    double p99_us = 0;      // the delay 1 % of instants exceed (10 µs and below unresolved)
+    double worst_us = 0;    // the longest gap
+};
+
 struct Report {
     Machine machine;
+    Floor floor;
     std::string seconds;
     bool quick = false;
     double scene_seconds = 0;

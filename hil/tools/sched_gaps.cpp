@@ -26,26 +26,9 @@
 #include "gap_overlap.hpp"
 #include "gap_period.hpp"
 #include "mirage/hostclock/host_clock.hpp"
-
-namespace {
+#include "spin_gaps.hpp"
 
 using mirage::hil::Gap;
-
-// Spins from `start` to `end` reading the clock; returns the gaps over 10 µs (a read takes ~20 ns).
-std::vector<Gap> spin(std::int64_t start, std::int64_t end) {
-    std::vector<Gap> gaps;
-    gaps.reserve(1 << 16);
-    while (mirage::hostclock::monotonic_ns() < start) {
-    }
-    std::int64_t prev = mirage::hostclock::monotonic_ns(), now = prev;
-    while ((now = mirage::hostclock::monotonic_ns()) < end) {
-        if (now - prev > 10'000) gaps.push_back({prev, now});
-        prev = now;
-    }
-    return gaps;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"Measure the scheduling gaps a spinning thread sees on this machine"};
@@ -83,7 +66,7 @@ int main(int argc, char** argv) {
                 pin_error[c] = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
                 if (pin_error[c] != 0) return;
             }
-            gaps[c] = spin(start, end);
+            gaps[c] = mirage::hil::spin_gaps(start, end);
         });
     }
     for (auto& t : pool) t.join();
