@@ -25,25 +25,6 @@
 #include "stop_signal.hpp"
 
 namespace mirage::hil {
-namespace {
-
-navpose::NavFrame make_frame(const Job& job, const std::vector<double>& origin) {
-    if (!origin.empty()) {
-        if (origin.size() != 3) throw ConfigError("live: --nav-origin expects lat,lon,h");
-        return navpose::NavFrame::tangent_plane(origin[0], origin[1], origin[2]);
-    }
-    return navpose::NavFrame::from_georef(job.scene->georef);
-}
-
-// Pulses per data packet (whole firing groups): the live loop renders one packet at a time.
-std::size_t pulses_per_packet(const Job& job, double packets_per_second) {
-    const double pulses_per_s =
-        double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
-    const auto n = static_cast<std::size_t>(std::llround(pulses_per_s / packets_per_second));
-    return render::chunk_pulses(job.sensor, std::max<std::size_t>(1, n));
-}
-
-}  // namespace
 
 void register_live(CLI::App& app) {
     auto* cmd = app.add_subcommand(
@@ -137,7 +118,7 @@ void register_live(CLI::App& app) {
         Job job = load_job(in);
         wire::prepare_sensor(job.sensor, o->wire, o->rpm);
         const bool ouster = job.sensor.wire.family == sensor::WireFamily::Ouster;
-        const navpose::NavFrame frame = make_frame(job, o->nav_origin);
+        const navpose::NavFrame frame = live_frame(job, o->nav_origin, "live");
         const navproto::NavUri uri = navproto::parse_nav_uri(o->nav);
 
         navpose::PoseBufferConfig pc;
@@ -243,31 +224,13 @@ void register_live(CLI::App& app) {
                      ouster ? "ouster" : "velodyne", job.sensor.name.c_str(), o->nav.c_str(),
                      nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
         std::fflush(stderr);
-        const auto deadline =
-            std::chrono::steady_clock::now() +
-            std::chrono::milliseconds(static_cast<int>(o->first_nav_timeout_s * 1e3));
-        std::optional<core::GpsTime> first;
-        while (!stop.load() && !(first = poses.newest())) {
-            if (std::chrono::steady_clock::now() > deadline) {
-                const auto c = nav.counters();
-                throw IoError(fmt::format(
-                    "live: no full pose (position + attitude + time) from '{}' within {} s "
-                    "({}; bytes skipped {}{}{})",
-                    o->nav, o->first_nav_timeout_s, navpose::nav_counters_line(c.decode, c.track),
-                    c.decode.garbage_bytes, c.detail.empty() ? "" : "; ", c.detail));
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        }
-        if (stop.load()) {
+        const std::optional<core::GpsTime> first =
+            wait_first_pose(poses, nav, o->nav, o->first_nav_timeout_s, stop);
+        if (!first) {
             finish_recording();
             return;
         }
-        // A serial line may hold a backlog of old messages: let it drain so the INS-to-host
-        // offset (lower envelope of arrival − INS time) settles on messages arriving live, then
-        // fire pulse 0 at the present INS time + 20 ms (whole ms).
-        std::this_thread::sleep_for(std::chrono::milliseconds(250));
-        const std::int64_t ins_now = hostclock::monotonic_ns() - nav.offset_ns().value_or(0);
-        const std::int64_t t0 = (ins_now / 1'000'000 + 20) * 1'000'000;
+        const std::int64_t t0 = live_pulse0_ns(nav);
         job.options.start = core::GpsTime(core::Nanos(t0));
 
         output::PacketOutputOptions po;

@@ -10,11 +10,16 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <thread>
 
 #include "commands.hpp"
+#include "live_loop.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/hostclock/host_clock.hpp"
+#include "mirage/navio/nav_input.hpp"
+#include "mirage/navpose/nav_counters.hpp"
+#include "mirage/navproto/protocol.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "mirage/output/packetizer_sink.hpp"
 #include "mirage/udp/shared_sender.hpp"
@@ -27,6 +32,8 @@ namespace {
 // From anchoring to the first send: every sensor's renderer starts at once on a few cores, so the
 // rig waits longer than one `mirage emulate` (100 ms) before its first packet is due.
 constexpr core::Nanos kRigStartLead{500'000'000};
+// Live: packets leave this long after their firing time (`mirage live --pipeline-delay-us`).
+constexpr core::Nanos kLivePipelineDelay{250'000};
 
 // One sensor of the running rig: its output, encoder and what its thread measured.
 struct RigRun {
@@ -34,7 +41,9 @@ struct RigRun {
     std::unique_ptr<output::PacketOutput> out;
     wire::WireSetup wire;
     std::atomic<std::uint64_t> packets{0};
+    std::unique_ptr<LiveSession> session;  // live navigation: sends through the session
     render::RenderStats stats;
+    LiveTotals live;
     output::PacketOutputTotals totals;
     std::string error;
 };
@@ -60,7 +69,10 @@ std::unique_ptr<RigRun> open_run(RigSensor& s, const std::shared_ptr<udp::Shared
     r->wire = wire::make_wire(
         wire_context(s.job), s.wire,
         [raw](const wire::PacketView& p) {
-            (*raw->out)(p);
+            if (raw->session)
+                raw->session->on_packet(p);
+            else
+                (*raw->out)(p);
             raw->packets.fetch_add(1, std::memory_order_relaxed);
         },
         s.entry.to);
@@ -88,26 +100,37 @@ void status_loop(const std::vector<std::unique_ptr<RigRun>>& runs, const std::at
     std::fputs("\n", stderr);
 }
 
+// "  roof: 3701 packets (79.49 MB), …": what one sensor sent and how late; the render CPU of a
+// trajectory run, the stale windows of a live one.
+std::string sensor_line(const RigRun& r, double wall_s) {
+    const auto& t = r.totals;
+    std::string s = fmt::format(
+        "  {}: {} packets ({:.2f} MB), {} points; sent {}, failed sends {}, pcap {}; lateness p50 "
+        "{:.0f} µs, p99 {:.0f} µs, worst {:.0f} µs, late {}",
+        r.sensor->entry.name, t.packets, double(t.bytes) / 1e6,
+        r.session ? r.live.points : r.stats.points, t.sent, t.send_failed, t.pcap_packets,
+        double(t.p50.count()) / 1e3, double(t.p99.count()) / 1e3,
+        double(t.worst_late.count()) / 1e3, t.late);
+    if (r.session) {
+        s += fmt::format("; windows {}, stale windows {} in {} periods", r.live.windows,
+                         r.live.stale_windows, r.live.stale_periods);
+    } else {
+        const double cpu =
+            r.stats.cpu_rays_s + r.stats.cpu_trace_s + r.stats.cpu_shade_s + r.stats.cpu_output_s;
+        s += fmt::format("; pipeline CPU {:.2f} s ({:.1f} % of one core)", cpu,
+                         wall_s > 0 ? 100 * cpu / wall_s : 0.0);
+    }
+    if (!r.error.empty()) s += "; FAILED: " + r.error;
+    return s + "\n";
+}
+
 void print_summary(const std::vector<std::unique_ptr<RigRun>>& runs, double wall_s, double cpu_s,
                    bool interrupted) {
     std::uint64_t late = 0, failed = 0;
     for (const auto& r : runs) {
-        const auto& t = r->totals;
-        const double cpu = r->stats.cpu_rays_s + r->stats.cpu_trace_s + r->stats.cpu_shade_s +
-                           r->stats.cpu_output_s;
-        std::printf(
-            "  %s: %llu packets (%.2f MB), %llu points; sent %llu, failed sends %llu, pcap %llu; "
-            "lateness p50 %.0f µs, p99 %.0f µs, worst %.0f µs, late %llu; pipeline CPU %.2f s "
-            "(%.1f %% of one core)%s%s\n",
-            r->sensor->entry.name.c_str(), static_cast<unsigned long long>(t.packets),
-            double(t.bytes) / 1e6, static_cast<unsigned long long>(r->stats.points),
-            static_cast<unsigned long long>(t.sent), static_cast<unsigned long long>(t.send_failed),
-            static_cast<unsigned long long>(t.pcap_packets), double(t.p50.count()) / 1e3,
-            double(t.p99.count()) / 1e3, double(t.worst_late.count()) / 1e3,
-            static_cast<unsigned long long>(t.late), cpu, wall_s > 0 ? 100 * cpu / wall_s : 0.0,
-            r->error.empty() ? "" : "; FAILED: ", r->error.c_str());
-        late += t.late;
-        failed += t.send_failed;
+        std::fputs(sensor_line(*r, wall_s).c_str(), stdout);
+        late += r->totals.late;
+        failed += r->totals.send_failed;
     }
     std::printf(
         "mirage rig: %zu sensors for %.3f s; process CPU %.2f s (%.0f %% of one core); late "
@@ -117,32 +140,29 @@ void print_summary(const std::vector<std::unique_ptr<RigRun>>& runs, double wall
         interrupted ? " (interrupted)" : "");
 }
 
-void run_rig(RigPlan& plan, bool status, int rt_priority) {
-    // One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
-    // the senders of a 2-core machine would wake each other late (docs/rig.md §2).
+// One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
+// the senders of a 2-core machine would wake each other late (docs/rig.md §2).
+std::shared_ptr<udp::SharedSender> make_sender(int rt_priority) {
     udp::SharedSenderConfig sc;
     sc.fifo_priority = rt_priority;
     auto sender = std::make_shared<udp::SharedSender>(sc);
     if (rt_priority > 0 && !sender->fifo())
         std::fprintf(stderr, "mirage rig: no SCHED_FIFO for the sender (%s)\n",
                      sender->fifo_error().c_str());
-    std::vector<std::unique_ptr<RigRun>> runs;
-    for (auto& s : plan.sensors) runs.push_back(open_run(*s, sender));
-    // One sensor clock: every output's first pulse at the same host instant.
-    const core::GpsTime t0 = plan.sensors.front()->job.options.start;
-    const std::int64_t anchor = hostclock::monotonic_ns() + kRigStartLead.count();
-    for (auto& r : runs) r->out->anchor(t0, anchor);
-    std::fprintf(stderr, "%s", describe(plan).c_str());
-    const auto& stop = install_stop_signal();
+    return sender;
+}
+
+// Runs `body` for every sensor on its own thread, with the status line, then the summary.
+void run_all(std::vector<std::unique_ptr<RigRun>>& runs, bool status, const std::atomic<bool>& stop,
+             const std::function<void(RigRun&)>& body) {
     const double cpu0 = process_cpu_s();
     const auto w0 = std::chrono::steady_clock::now();
     std::vector<std::thread> threads;
     for (auto& r : runs)
-        threads.emplace_back([&r, &stop] {
+        threads.emplace_back([&r, &body] {
             pthread_setname_np(pthread_self(), "mirage-rig");
             try {
-                output::PacketizerSink sink(*r->wire.packetizer);
-                r->stats = render::render(r->sensor->job.setup(), sink, {}, &stop);
+                body(*r);
                 r->totals = r->out->finish();
             } catch (const std::exception& e) {
                 r->error = e.what();
@@ -160,6 +180,70 @@ void run_rig(RigPlan& plan, bool status, int rt_priority) {
     for (const auto& r : runs)
         if (!r->error.empty())
             throw IoError(fmt::format("rig: sensor '{}': {}", r->sensor->entry.name, r->error));
+}
+
+// A trajectory: every output's first pulse at the same host instant (one sensor clock).
+void run_rig(RigPlan& plan, bool status, int rt_priority) {
+    const auto sender = make_sender(rt_priority);
+    std::vector<std::unique_ptr<RigRun>> runs;
+    for (auto& s : plan.sensors) runs.push_back(open_run(*s, sender));
+    const core::GpsTime t0 = plan.sensors.front()->job.options.start;
+    const std::int64_t anchor = hostclock::monotonic_ns() + kRigStartLead.count();
+    for (auto& r : runs) r->out->anchor(t0, anchor);
+    std::fprintf(stderr, "%s", describe(plan).c_str());
+    const auto& stop = install_stop_signal();
+    run_all(runs, status, stop, [&stop](RigRun& r) {
+        output::PacketizerSink sink(*r.wire.packetizer);
+        r.stats = render::render(r.sensor->job.setup(), sink, {}, &stop);
+    });
+}
+
+// A live source: one reader and pose buffer for all sensors; pulse 0 of every sensor at the same
+// INS time, each sensor rendering one packet's pulses as soon as their firing times have passed
+// (mirage live's loop), the first one also timing INS messages to packets.
+void run_rig_live(RigPlan& plan, bool status, int rt_priority) {
+    const rig::RigConfig& c = plan.config;
+    navpose::PoseBufferConfig pc;
+    pc.max_extrapolation = core::Nanos(static_cast<std::int64_t>(c.max_extrapolation_ms * 1e6));
+    navpose::PoseBuffer poses(pc);
+    navio::NavInput nav(navproto::parse_nav_uri(c.nav),
+                        live_frame(plan.sensors.front()->job, c.nav_origin, "rig"), poses, {});
+    const auto& stop = install_stop_signal();
+    nav.start();
+    std::fprintf(stderr, "%smirage rig: waiting for navigation on %s%s\n", describe(plan).c_str(),
+                 c.nav.c_str(),
+                 nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
+    if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop)) return;
+    const std::int64_t t0 = live_pulse0_ns(nav);
+    const auto sender = make_sender(rt_priority);
+    std::vector<std::unique_ptr<RigRun>> runs;
+    LiveOptions lo;
+    lo.status_line = false;
+    if (!plan.live_duration.empty()) lo.duration = parse_seconds(plan.live_duration, "duration");
+    for (auto& s : plan.sensors) {
+        s->job.options.start = core::GpsTime(core::Nanos(t0));
+        runs.push_back(open_run(*s, sender));
+        lo.message_latency = runs.size() == 1;
+        runs.back()->session =
+            std::make_unique<LiveSession>(s->job, *runs.back()->out, nav, poses, lo);
+        runs.back()->out->anchor(s->job.options.start,
+                                 t0 + nav.offset_ns().value_or(0) + kLivePipelineDelay.count());
+    }
+    std::fprintf(stderr, "mirage rig: pulse 0 at gps:%.3f\n", double(t0) / 1e9);
+    run_all(runs, status, stop, [&stop](RigRun& r) {
+        const Job& job = r.sensor->job;
+        r.live = r.session->run(*r.wire.packetizer,
+                                pulses_per_packet(job, r.sensor->packets_per_second), stop);
+        r.wire.packetizer->finish();
+    });
+    nav.stop();
+    const auto nc = nav.counters();
+    std::printf(
+        "mirage rig: navigation: %s%s%s; INS->packet latency (%s) p50 %.3f ms p99 %.3f ms\n",
+        navpose::nav_counters_line(nc.decode, nc.track).c_str(), nc.detail.empty() ? "" : "; ",
+        nc.detail.c_str(), runs.front()->sensor->entry.name.c_str(),
+        double(runs.front()->live.latency.percentile(0.5).count()) / 1e6,
+        double(runs.front()->live.latency.percentile(0.99).count()) / 1e6);
 }
 
 }  // namespace
@@ -188,7 +272,10 @@ void register_rig(CLI::App& app) {
             std::printf("%s", describe(plan).c_str());
             return;
         }
-        run_rig(plan, !o->no_status, o->rt_priority);
+        if (plan.config.nav.empty())
+            run_rig(plan, !o->no_status, o->rt_priority);
+        else
+            run_rig_live(plan, !o->no_status, o->rt_priority);
     });
 }
 

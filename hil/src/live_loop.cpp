@@ -3,12 +3,60 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <thread>
 
+#include "mirage/core/error.hpp"
 #include "mirage/hostclock/host_clock.hpp"
+#include "mirage/navpose/nav_counters.hpp"
 #include "mirage/render/pipeline.hpp"
 
 namespace mirage::hil {
+
+navpose::NavFrame live_frame(const Job& job, const std::vector<double>& origin,
+                             const std::string& who) {
+    if (!origin.empty()) {
+        if (origin.size() != 3) throw ConfigError(who + ": --nav-origin expects lat,lon,h");
+        return navpose::NavFrame::tangent_plane(origin[0], origin[1], origin[2]);
+    }
+    return navpose::NavFrame::from_georef(job.scene->georef);
+}
+
+std::size_t pulses_per_packet(const Job& job, double packets_per_second) {
+    const double pulses_per_s =
+        double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
+    const auto n = static_cast<std::size_t>(std::llround(pulses_per_s / packets_per_second));
+    return render::chunk_pulses(job.sensor, std::max<std::size_t>(1, n));
+}
+
+std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
+                                             const navio::NavInput& nav, const std::string& nav_uri,
+                                             double timeout_s, const std::atomic<bool>& stop) {
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::milliseconds(static_cast<int>(timeout_s * 1e3));
+    std::optional<core::GpsTime> first;
+    while (!stop.load() && !(first = poses.newest())) {
+        if (std::chrono::steady_clock::now() > deadline) {
+            const auto c = nav.counters();
+            throw IoError(
+                fmt::format("live: no full pose (position + attitude + time) from '{}' within {} s "
+                            "({}; bytes skipped {}{}{})",
+                            nav_uri, timeout_s, navpose::nav_counters_line(c.decode, c.track),
+                            c.decode.garbage_bytes, c.detail.empty() ? "" : "; ", c.detail));
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (stop.load()) return std::nullopt;
+    return first;
+}
+
+std::int64_t live_pulse0_ns(const navio::NavInput& nav) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    const std::int64_t ins_now = hostclock::monotonic_ns() - nav.offset_ns().value_or(0);
+    return (ins_now / 1'000'000 + 20) * 1'000'000;
+}
 
 LiveSession::LiveSession(Job& job, output::PacketOutput& out, navio::NavInput& nav,
                          const navpose::PoseBuffer& poses, LiveOptions options)
@@ -33,7 +81,7 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
     bool stale = false;
     std::string stale_reason;
     sensor::PulseSpec spec_first{}, spec_last{};
-    (void)nav_.take_applied();  // the backlog before pulse 0 is not latency
+    if (opt_.message_latency) (void)nav_.take_applied();  // the backlog is not latency
 
     for (std::uint64_t k = 0; !stop.load(); k += pulses_per_window) {
         scan.pulses(k, 1, &spec_first);
@@ -49,10 +97,10 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         const auto win = poses_.window(t_first, t_last, (t_last - t_first) / 2);
         // After the window: every message it used has been listed by then (NavInput lists a
         // message before its samples reach the pose buffer).
-        latency_.applied(nav_.take_applied());
+        if (opt_.message_latency) latency_.applied(nav_.take_applied());
         if (win) {
             wr.render(win->trajectory, k, pulses_per_window, pts, rstats);
-            latency_.rendered(win->used);
+            if (opt_.message_latency) latency_.rendered(win->used);
             stale = false;
         } else {
             ++tot_.stale_windows;
@@ -70,7 +118,7 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         if (opt_.status_line) print_status(t_last, stale, stale_reason);
     }
     if (opt_.status_line) std::fprintf(stderr, "\n");
-    latency_.applied(nav_.take_applied());
+    if (opt_.message_latency) latency_.applied(nav_.take_applied());
     const navio::MessageLatency::Unused unused = latency_.unused();
     tot_.latency = latency_.latency();
     tot_.messages = latency_.messages();

@@ -2,7 +2,9 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "job.hpp"
 #include "mirage/core/time.hpp"
@@ -19,7 +21,26 @@ namespace mirage::hil {
 struct LiveOptions {
     core::Nanos duration{0};  // 0: until stopped
     bool status_line = true;
+    // Time the INS messages to the packets (one session per NavInput may: the applied messages
+    // are taken from it).
+    bool message_latency = true;
 };
+
+// The frame navigation is mapped into: the scene's georeference, or a tangent plane at
+// `origin` (lat, lon, h). `who` names the command in errors.
+navpose::NavFrame live_frame(const Job& job, const std::vector<double>& origin,
+                             const std::string& who);
+// Pulses per data packet (whole firing groups): the live loop renders one packet at a time.
+std::size_t pulses_per_packet(const Job& job, double packets_per_second);
+// Waits for the first full pose; throws IoError naming `nav_uri` and the counters after
+// `timeout_s`; nullopt when `stop` was set first.
+std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
+                                             const navio::NavInput& nav, const std::string& nav_uri,
+                                             double timeout_s, const std::atomic<bool>& stop);
+// Pulse 0's INS time (ns): a serial line may hold a backlog of old messages, so 250 ms pass for
+// the INS-to-host offset (lower envelope of arrival − INS time) to settle on messages arriving
+// live; then the present INS time + 20 ms, whole ms.
+std::int64_t live_pulse0_ns(const navio::NavInput& nav);
 
 struct LiveTotals {
     std::uint64_t windows = 0, stale_windows = 0, stale_periods = 0;

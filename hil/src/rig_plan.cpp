@@ -44,12 +44,16 @@ std::unique_ptr<RigSensor> plan_sensor(const rig::SensorEntry& e, const JobInput
 RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override) {
     RigPlan plan;
     plan.config = config;
+    // A live source: the pose comes later; the job's trajectory and duration are stand-ins.
+    const bool live = !config.nav.empty();
+    const std::string& duration = duration_override.empty() ? config.duration : duration_override;
+    if (live) plan.live_duration = duration;
     JobInputs common;
-    common.trajectory = config.trajectory;
-    common.duration = duration_override.empty() ? config.duration : duration_override;
-    common.start = config.start;
+    common.trajectory = live ? std::string("static:0,0,0") : config.trajectory;
+    common.duration = live ? std::string("1") : duration;
+    if (!live) common.start = config.start;
     common.threads = config.threads;
-    const bool is_static = common.trajectory.starts_with("static:");
+    const bool is_static = !live && common.trajectory.starts_with("static:");
     plan.forever = is_static && common.duration.empty();
     if (plan.forever) common.duration = "86400";  // until interrupted (a day at most)
     if (common.start.empty() || common.start == "now")
@@ -72,13 +76,18 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
 std::string describe(const RigPlan& plan) {
     const rig::RigConfig& c = plan.config;
     const Job& first = plan.sensors.front()->job;
-    std::string s = fmt::format(
-        "rig '{}': scene {}, trajectory {}, first pulse gps:{:.3f}, {}, {} render thread(s) per "
-        "sensor\n",
-        c.file, c.scene, c.trajectory, double(first.options.start.time_since_epoch().count()) / 1e9,
-        plan.forever ? "until Ctrl-C"
-                     : fmt::format("{:.3f} s", double(first.options.duration.count()) / 1e9),
-        c.threads);
+    const std::string nav =
+        c.nav.empty()
+            ? fmt::format("trajectory {}, first pulse gps:{:.3f}", c.trajectory,
+                          double(first.options.start.time_since_epoch().count()) / 1e9)
+            : fmt::format("navigation {} (max extrapolation {} ms)", c.nav, c.max_extrapolation_ms);
+    const bool until_stopped = plan.forever || (!c.nav.empty() && plan.live_duration.empty());
+    const std::string span =
+        until_stopped   ? std::string("until Ctrl-C")
+        : c.nav.empty() ? fmt::format("{:.3f} s", double(first.options.duration.count()) / 1e9)
+                        : fmt::format("{} s", plan.live_duration);
+    std::string s = fmt::format("rig '{}': scene {}, {}, {}, {} render thread(s) per sensor\n",
+                                c.file, c.scene, nav, span, c.threads);
     double total = 0;
     for (const auto& r : plan.sensors) {
         const rig::SensorEntry& e = r->entry;

@@ -78,7 +78,8 @@ struct Stats {
 };
 
 inline Stats check_points(const std::vector<std::vector<std::uint8_t>>& packets,
-                          const core::Trajectory& truth, core::GpsTime t0) {
+                          const core::Trajectory& truth, core::GpsTime t0,
+                          const core::Pose& mount = {}) {
     Stats st;
     std::vector<double> err;
     // Velodyne time is µs past the UTC hour: take the hour from t0 (a run lasts seconds).
@@ -98,7 +99,7 @@ inline Stats check_points(const std::vector<std::vector<std::uint8_t>>& packets,
         for (const auto& f : dp.firing) {
             if (f.distance_m <= 0) continue;
             const core::GpsTime t = core::gps_from_unix_ns(unix_t + f.time_offset_ns);
-            const core::Pose pose = truth.at(truth.begin() + (t - t0));
+            const core::Pose pose = truth.at(truth.begin() + (t - t0)) * mount;  // sensor's
             err.push_back(distance_to_yard(pose.apply(Eigen::Vector3d(f.x, f.y, f.z))));
         }
     }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <regex>
 
+#include "background_mirage.hpp"
 #include "cli_run.hpp"
 #include "live_yard.hpp"
 #include "mirage/core/pose.hpp"
@@ -99,6 +100,59 @@ TEST(Rig, two_mounted_sensors_stream_on_one_clock_onto_the_yard) {
     EXPECT_NE(r.output.find("failed sends 0"), std::string::npos) << r.output;
     // Swapping the mounts puts the points off the walls: the mounts are each sensor's own.
     EXPECT_GT(check(left.packets(), platform * mount({-1, 0, 0.5}, 0, 10, 180)).p99, 0.5);
+}
+
+core::GpsTime parse_t0(const std::string& line) {
+    std::smatch m;
+    if (!std::regex_search(line, m, std::regex("t0 gps:([0-9]+\\.[0-9]+)"))) return {};
+    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
+}
+
+// A live source drives the rig: `mirage fake-ins --protocol dis` sends the car circling the
+// yard to the rig's UDP port; both sensors' points, placed with the truth pose at their times
+// composed with each sensor's mount, lie on the yard.
+TEST(Rig, a_dis_entity_drives_two_mounted_sensors_onto_the_yard) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    write_trajectory(tmp.file("circle.csv"));
+    const core::Trajectory truth = core::load_trajectory_csv(
+        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
+        core::Interpolation::Cubic);
+    Collector left, rear;
+    std::string text = rig_text(left.port(), rear.port());
+    const std::string static_nav = "navigation: {trajectory: 'static:2,-3,1.8,0,0,30'}";
+    text.replace(text.find(static_nav), static_nav.size(),
+                 "navigation: {nav: 'dis:udp://127.0.0.1:0?entity=1.1.1', "
+                 "max_extrapolation_ms: 150, first_nav_timeout: 15}");
+    text.replace(text.find("duration: 1"), 11, "duration: 3");
+    { std::ofstream(tmp.file("rig.yaml")) << text; }
+    BackgroundMirage rig = start_mirage("rig " + tmp.file("rig.yaml") + " --no-status");
+    std::smatch m;
+    const std::string l = rig.wait_for(std::regex("udp port [0-9]+"));
+    ASSERT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << rig.output;
+    BackgroundMirage fake = start_mirage(
+        "fake-ins --scene " + tmp.file("yard.yaml") + " --trajectory " + tmp.file("circle.csv") +
+        " --protocol dis --duration 6 --to udp://127.0.0.1:" + m[1].str());
+    const core::GpsTime t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
+    const int rig_rc = rig.finish(), fake_rc = fake.finish();
+    left.stop();
+    rear.stop();
+    ASSERT_EQ(rig_rc, 0) << rig.output;
+    ASSERT_EQ(fake_rc, 0) << fake.output;
+    const Stats a = check_points(left.packets(), truth, t0, mount({1, 0.5, 0.3}, 0, 0, 90));
+    const Stats b = check_points(rear.packets(), truth, t0, mount({-1, 0, 0.5}, 0, 10, 180));
+    std::printf(
+        "[ rig dis ] left: %zu packets, %zu points, median %.4f m, p99 %.4f m; rear: %zu "
+        "packets, %zu points, median %.4f m, p99 %.4f m\n%s",
+        a.packets, a.points, a.median, a.p99, b.packets, b.points, b.median, b.p99,
+        rig.output.c_str());
+    for (const Stats* st : {&a, &b}) {
+        EXPECT_GT(st->packets, 2100u);  // 3 s of 753.5 packets/s
+        EXPECT_LT(st->median, 0.02);    // range noise on
+        EXPECT_LT(st->p99, 0.1);
+    }
+    EXPECT_NE(rig.output.find("dis entity 1.1.1"), std::string::npos) << rig.output;
+    EXPECT_NE(rig.output.find("stale windows 0 in 0 periods"), std::string::npos) << rig.output;
 }
 
 TEST(Rig, check_prints_the_effective_configuration_and_sends_nothing) {

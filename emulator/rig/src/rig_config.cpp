@@ -3,6 +3,7 @@
 // range, then the rig as a whole (unique names, destinations and source ports).
 #include "mirage/rig/rig_config.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -47,12 +48,32 @@ class RigReader : private scene::YamlReader {
     }
 
     void navigation(const YAML::Node& n, RigConfig& c) const {
-        if (!n) fail("navigation", "missing (navigation: {trajectory: …})", n);
-        require_map(n, "navigation");
-        check_keys(n, "navigation", {"trajectory"});
-        if (!n["trajectory"]) fail("navigation.trajectory", "missing", n);
-        const std::string t = string(n["trajectory"], "navigation.trajectory");
-        c.trajectory = t.starts_with("demo-") || t.starts_with("static:") ? t : file_path(t);
+        const std::string p = "navigation";
+        if (!n) fail(p, "missing (navigation: {trajectory: …} or {nav: <URI>})", n);
+        require_map(n, p);
+        check_keys(n, p,
+                   {"trajectory", "nav", "origin", "max_extrapolation_ms", "first_nav_timeout"});
+        if (!n["trajectory"] == !n["nav"])
+            fail(p, "give one of trajectory (a path) or nav (a live source's URI)", n);
+        if (n["trajectory"]) {
+            for (const char* k : {"origin", "max_extrapolation_ms", "first_nav_timeout"})
+                if (n[k]) fail(sub(p, k), "applies to nav only", n[k]);
+            const std::string t = string(n["trajectory"], sub(p, "trajectory"));
+            c.trajectory = t.starts_with("demo-") || t.starts_with("static:") ? t : file_path(t);
+            return;
+        }
+        c.nav = string(n["nav"], sub(p, "nav"));
+        if (n["origin"]) {
+            c.nav_origin = numbers(n["origin"], sub(p, "origin"), 3);
+            if (std::abs(c.nav_origin[0]) > 90 || std::abs(c.nav_origin[1]) > 180)
+                fail(sub(p, "origin"), "latitude within ±90°, longitude within ±180°", n["origin"]);
+        }
+        if (n["max_extrapolation_ms"])
+            c.max_extrapolation_ms =
+                number_in(n["max_extrapolation_ms"], sub(p, "max_extrapolation_ms"), 0, 10'000);
+        if (n["first_nav_timeout"])
+            c.first_nav_timeout_s =
+                number_in(n["first_nav_timeout"], sub(p, "first_nav_timeout"), 0.1, 3600);
     }
 
     void sensors(const YAML::Node& n, const YAML::Node& root, RigConfig& c) const {

@@ -7,6 +7,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "mirage/core/error.hpp"
 
@@ -59,6 +60,19 @@ TEST(RigConfig, a_rig_file_loads_with_paths_relative_to_it) {
     EXPECT_EQ(r.ports.imu, 7503);
 }
 
+TEST(RigConfig, a_live_navigation_source_takes_mirage_live_settings) {
+    std::string text = kGood;
+    text.replace(text.find("  trajectory: static:0,0,1.8,0,0,30"), 35,
+                 "  nav: 'dis:udp://:3000?entity=1.2.3'\n  origin: [48.1, 11.5, 520]\n"
+                 "  max_extrapolation_ms: 150\n  first_nav_timeout: 30");
+    const RigConfig c = load_rig("car.yaml", &text);
+    EXPECT_TRUE(c.trajectory.empty());
+    EXPECT_EQ(c.nav, "dis:udp://:3000?entity=1.2.3");
+    EXPECT_EQ(c.nav_origin, (std::vector<double>{48.1, 11.5, 520}));
+    EXPECT_EQ(c.max_extrapolation_ms, 150);
+    EXPECT_EQ(c.first_nav_timeout_s, 30);
+}
+
 TEST(RigConfig, the_example_in_recordings_loads) {
     const RigConfig c =
         load_rig(std::string(MIRAGE_SOURCE_DIR) + "/recordings/rigs/car-five-lidars.yaml");
@@ -96,7 +110,14 @@ TEST(RigConfig, mistakes_name_the_key_path_and_line) {
                    {"sensors[0]", "nowhere to go"});
     expect_refused("name: left", "name: 'le ft'", {"sensors[0].name", "letters"});
     expect_refused("duration: 2.5", "duration: -1", {"duration", "positive"});
-    expect_refused("navigation:\n  trajectory", "navigation:\n  nav", {"navigation.nav"});
+    expect_refused("navigation:\n  trajectory", "navigation:\n  path", {"navigation.path"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30",
+                   "  trajectory: a.csv\n  nav: ncom:udp://:3000",
+                   {"navigation", "one of trajectory"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30",
+                   "  trajectory: a.csv\n  origin: [1, 2, 3]", {"navigation.origin", "nav only"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30", "  nav: x\n  origin: [91, 2, 3]",
+                   {"navigation.origin", "latitude"});
     expect_refused("sensors:", "sensor_list:", {"sensor_list: unknown key"});
     expect_refused("scene: yard.yaml", "scene: [a, b]", {"scene", "non-empty string"});
     expect_refused("duration: 2.5", "duration: 2.5\nduration: 3", {"duplicate key"});

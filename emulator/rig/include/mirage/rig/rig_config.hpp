@@ -35,10 +35,15 @@ struct SensorEntry {
 struct RigConfig {
     std::string file;        // as given
     std::string scene;       // demo or a scene file (relative paths resolved)
-    std::string trajectory;  // navigation: trajectory CSV, demo-*, static:…
-    std::string start;       // UTC / gps: time of the first pulse; empty: now
-    std::string duration;    // seconds; empty: the trajectory's span (static: until Ctrl-C)
-    int threads = 1;         // render threads per sensor
+    std::string trajectory;  // navigation: trajectory CSV, demo-*, static:… (or empty)
+    // …or live: a `--nav` URI (INS or DIS) with its settings as `mirage live` takes them.
+    std::string nav;
+    std::vector<double> nav_origin;    // lat, lon, h: tangent-plane frame; empty: the scene's
+    double max_extrapolation_ms = 50;  // beyond the newest sample: stale
+    double first_nav_timeout_s = 10;   // no full pose by then: exit 1
+    std::string start;                 // UTC / gps: time of the first pulse; empty: now
+    std::string duration;  // seconds; empty: the trajectory's span (static: until Ctrl-C)
+    int threads = 1;       // render threads per sensor
     std::vector<SensorEntry> sensors;
 };
 
