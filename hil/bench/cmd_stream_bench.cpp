@@ -586,6 +586,10 @@ void register_stream_bench(CLI::App& app) {
         std::vector<StreamSpec> specs;
         std::optional<rig::RigConfig> rig_config;
         if (!o->rig.empty()) rig_config = rig::load_rig(o->rig);
+        if (rig_config && !rig_config->nav.empty())
+            throw ConfigError("stream-bench: rig '" + o->rig +
+                              "': navigation.nav is a live source; the benchmark needs a "
+                              "trajectory");
         auto scene = load_scene_timed(rig_config ? rig_config->scene : "demo", rep.scene_seconds);
         if (rig_config) {
             rep.streams.rig = o->rig;

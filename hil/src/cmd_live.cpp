@@ -120,6 +120,10 @@ void register_live(CLI::App& app) {
         const bool ouster = job.sensor.wire.family == sensor::WireFamily::Ouster;
         const navpose::NavFrame frame = live_frame(job, o->nav_origin, "live");
         const navproto::NavUri uri = navproto::parse_nav_uri(o->nav);
+        if (uri.protocol == navproto::NavProtocol::Dis && !o->nav_record.empty())
+            throw ConfigError(
+                "live: --nav-record keeps a byte stream, and DIS PDUs need their datagram "
+                "boundaries: record the DIS stream with `mirage record` (a pcap)");
 
         navpose::PoseBufferConfig pc;
         pc.max_extrapolation =
@@ -225,7 +229,7 @@ void register_live(CLI::App& app) {
                      nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
         std::fflush(stderr);
         const std::optional<core::GpsTime> first =
-            wait_first_pose(poses, nav, o->nav, o->first_nav_timeout_s, stop);
+            wait_first_pose(poses, nav, o->nav, o->first_nav_timeout_s, stop, "live");
         if (!first) {
             finish_recording();
             return;

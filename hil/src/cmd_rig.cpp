@@ -166,6 +166,8 @@ void run_all(std::vector<std::unique_ptr<RigRun>>& runs, bool status, const std:
                 r->totals = r->out->finish();
             } catch (const std::exception& e) {
                 r->error = e.what();
+                std::fprintf(stderr, "\nmirage rig: sensor '%s' failed: %s\n",
+                             r->sensor->entry.name.c_str(), e.what());
             }
         });
     std::atomic<bool> done{false};
@@ -213,21 +215,22 @@ void run_rig_live(RigPlan& plan, bool status, int rt_priority) {
     std::fprintf(stderr, "%smirage rig: waiting for navigation on %s%s\n", describe(plan).c_str(),
                  c.nav.c_str(),
                  nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
-    if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop)) return;
+    if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop, "rig")) return;
     const std::int64_t t0 = live_pulse0_ns(nav);
     const auto sender = make_sender(rt_priority);
     std::vector<std::unique_ptr<RigRun>> runs;
     LiveOptions lo;
     lo.status_line = false;
-    if (!plan.live_duration.empty()) lo.duration = parse_seconds(plan.live_duration, "duration");
+    lo.duration = plan.live_duration_ns;
+    // One sensor clock: every output anchored with the same INS-to-host offset.
+    const std::int64_t anchor = t0 + nav.offset_ns().value_or(0) + kLivePipelineDelay.count();
     for (auto& s : plan.sensors) {
         s->job.options.start = core::GpsTime(core::Nanos(t0));
         runs.push_back(open_run(*s, sender));
         lo.message_latency = runs.size() == 1;
         runs.back()->session =
             std::make_unique<LiveSession>(s->job, *runs.back()->out, nav, poses, lo);
-        runs.back()->out->anchor(s->job.options.start,
-                                 t0 + nav.offset_ns().value_or(0) + kLivePipelineDelay.count());
+        runs.back()->out->anchor(s->job.options.start, anchor);
     }
     std::fprintf(stderr, "mirage rig: pulse 0 at gps:%.3f\n", double(t0) / 1e9);
     run_all(runs, status, stop, [&stop](RigRun& r) {

@@ -33,7 +33,8 @@ std::size_t pulses_per_packet(const Job& job, double packets_per_second) {
 
 std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
                                              const navio::NavInput& nav, const std::string& nav_uri,
-                                             double timeout_s, const std::atomic<bool>& stop) {
+                                             double timeout_s, const std::atomic<bool>& stop,
+                                             const std::string& who) {
     const auto deadline = std::chrono::steady_clock::now() +
                           std::chrono::milliseconds(static_cast<int>(timeout_s * 1e3));
     std::optional<core::GpsTime> first;
@@ -41,9 +42,9 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
         if (std::chrono::steady_clock::now() > deadline) {
             const auto c = nav.counters();
             throw IoError(
-                fmt::format("live: no full pose (position + attitude + time) from '{}' within {} s "
+                fmt::format("{}: no full pose (position + attitude + time) from '{}' within {} s "
                             "({}; bytes skipped {}{}{})",
-                            nav_uri, timeout_s, navpose::nav_counters_line(c.decode, c.track),
+                            who, nav_uri, timeout_s, navpose::nav_counters_line(c.decode, c.track),
                             c.decode.garbage_bytes, c.detail.empty() ? "" : "; ", c.detail));
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(5));

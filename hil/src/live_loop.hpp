@@ -36,7 +36,8 @@ std::size_t pulses_per_packet(const Job& job, double packets_per_second);
 // `timeout_s`; nullopt when `stop` was set first.
 std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
                                              const navio::NavInput& nav, const std::string& nav_uri,
-                                             double timeout_s, const std::atomic<bool>& stop);
+                                             double timeout_s, const std::atomic<bool>& stop,
+                                             const std::string& who);
 // Pulse 0's INS time (ns): a serial line may hold a backlog of old messages, so 250 ms pass for
 // the INS-to-host offset (lower envelope of arrival − INS time) to settle on messages arriving
 // live; then the present INS time + 20 ms, whole ms.

@@ -7,6 +7,8 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
+#include "mirage/navio/dis_uri.hpp"
+#include "mirage/navproto/protocol.hpp"
 #include "mirage/output/packet_output.hpp"
 
 namespace mirage::hil {
@@ -39,6 +41,30 @@ std::unique_ptr<RigSensor> plan_sensor(const rig::SensorEntry& e, const JobInput
     return r;
 }
 
+// What the rig file names but the parser cannot judge alone: the duration as exact seconds, the
+// start time, and a live source's URI (its protocol and, for DIS, its options). Errors name the
+// rig file and the key.
+void check_run_settings(const rig::RigConfig& c, const std::string& duration, RigPlan& plan) {
+    const auto named = [&](const std::string& key, const auto& f) {
+        try {
+            f();
+        } catch (const ConfigError& e) {
+            throw ConfigError(fmt::format("rig '{}': {}: {}", c.file, key, e.what()));
+        }
+    };
+    if (!duration.empty())
+        named("duration", [&] { plan.live_duration_ns = parse_seconds(duration, "duration"); });
+    if (!c.start.empty() && c.start != "now")
+        named("start", [&] { (void)core::parse_time(c.start); });
+    if (c.nav.empty()) return;
+    named("navigation.nav", [&] {
+        const navproto::NavUri uri = navproto::parse_nav_uri(c.nav);
+        std::string udp;
+        if (uri.protocol == navproto::NavProtocol::Dis)
+            (void)navio::parse_dis_transport(uri.transport, udp);
+    });
+}
+
 }  // namespace
 
 RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override) {
@@ -48,6 +74,7 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
     const bool live = !config.nav.empty();
     const std::string& duration = duration_override.empty() ? config.duration : duration_override;
     if (live) plan.live_duration = duration;
+    check_run_settings(config, duration, plan);
     JobInputs common;
     common.trajectory = live ? std::string("static:0,0,0") : config.trajectory;
     common.duration = live ? std::string("1") : duration;
@@ -56,9 +83,11 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
     const bool is_static = !live && common.trajectory.starts_with("static:");
     plan.forever = is_static && common.duration.empty();
     if (plan.forever) common.duration = "86400";  // until interrupted (a day at most)
-    if (common.start.empty() || common.start == "now")
-        if (is_static || is_demo_trajectory(common.trajectory))
-            common.start = gps_now_spec();  // one start for every sensor
+    // One start for every sensor: now for demo trajectories and static poses (and when asked);
+    // a trajectory file's own start otherwise.
+    if (common.start == "now" ||
+        (common.start.empty() && (is_static || is_demo_trajectory(common.trajectory))))
+        common.start = gps_now_spec();
     double scene_s = 0;
     const auto scene = load_scene_timed(config.scene, scene_s);
     for (std::size_t i = 0; i < config.sensors.size(); ++i) {

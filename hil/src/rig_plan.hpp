@@ -25,8 +25,9 @@ struct RigSensor {
 
 struct RigPlan {
     rig::RigConfig config;
-    bool forever = false;       // a static pose without a duration: until Ctrl-C
-    std::string live_duration;  // a live source: seconds to run (empty: until Ctrl-C)
+    bool forever = false;             // a static pose without a duration: until Ctrl-C
+    std::string live_duration;        // a live source: seconds to run (empty: until Ctrl-C)
+    core::Nanos live_duration_ns{0};  // the same, parsed (0: until Ctrl-C)
     std::vector<std::unique_ptr<RigSensor>> sensors;
 };
 

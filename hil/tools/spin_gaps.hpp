@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "gap_overlap.hpp"
@@ -30,8 +31,7 @@ inline std::vector<Gap> spin_gaps(std::int64_t start, std::int64_t end) {
 // a send due inside a gap waits for its end.
 inline double delayed_share(const std::vector<Gap>& gaps, std::int64_t span_ns,
                             std::int64_t late_ns) {
-    std::int64_t t = 0;
-    for (const Gap& g : gaps) t += std::max<std::int64_t>(0, g.end - g.begin - late_ns);
+    const std::int64_t t = delayed_for_all(std::span<const std::vector<Gap>>(&gaps, 1), late_ns);
     return span_ns > 0 ? double(t) / double(span_ns) : 0.0;
 }
 

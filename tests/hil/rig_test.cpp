@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <initializer_list>
 #include <regex>
 
 #include "background_mirage.hpp"
@@ -152,7 +153,22 @@ TEST(Rig, a_dis_entity_drives_two_mounted_sensors_onto_the_yard) {
         EXPECT_LT(st->p99, 0.1);
     }
     EXPECT_NE(rig.output.find("dis entity 1.1.1"), std::string::npos) << rig.output;
-    EXPECT_NE(rig.output.find("stale windows 0 in 0 periods"), std::string::npos) << rig.output;
+    // Each sensor's line: no stale window.
+    for (const char* name : {"  left: ", "  rear: "}) {
+        const auto at = rig.output.rfind(name);
+        ASSERT_NE(at, std::string::npos) << rig.output;
+        const std::string line = rig.output.substr(at, rig.output.find('\n', at) - at);
+        EXPECT_NE(line.find("stale windows 0 in 0 periods"), std::string::npos) << line;
+    }
+    // One sensor clock: both streams' first packets carry the same time.
+    velodyne::DecodedPacket first_left, first_rear;
+    ASSERT_FALSE(left.packets().empty());
+    ASSERT_FALSE(rear.packets().empty());
+    ASSERT_EQ(velodyne::decode_data(left.packets().front(), nullptr, first_left),
+              velodyne::DecodeStatus::Ok);
+    ASSERT_EQ(velodyne::decode_data(rear.packets().front(), nullptr, first_rear),
+              velodyne::DecodeStatus::Ok);
+    EXPECT_EQ(first_left.timestamp_us, first_rear.timestamp_us);
 }
 
 TEST(Rig, check_prints_the_effective_configuration_and_sends_nothing) {
@@ -173,16 +189,31 @@ TEST(Rig, check_prints_the_effective_configuration_and_sends_nothing) {
         << r.output;
 }
 
+// The rig text with `from` replaced by `to`, checked: exit 2 and every `want` in the message.
+void expect_refused(const TempDir& tmp, const std::string& name, const std::string& from,
+                    const std::string& to, std::initializer_list<const char*> want) {
+    std::string text = rig_text(2368, 2369);
+    const auto at = text.rfind(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    { std::ofstream(tmp.file(name)) << text; }
+    const RunResult r = run_mirage("rig " + tmp.file(name) + " --check");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    for (const char* w : want)
+        EXPECT_NE(r.output.find(w), std::string::npos) << w << ": " << r.output;
+}
+
 TEST(Rig, errors_name_the_file_the_sensor_and_the_line_and_exit_2) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
-    std::string text = rig_text(2368, 2369);
-    text.replace(text.rfind("sensor: vlp16"), 13, "sensor: vlp17");
-    { std::ofstream(tmp.file("rig.yaml")) << text; }
-    const RunResult r = run_mirage("rig " + tmp.file("rig.yaml") + " --check");
-    EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("sensors[1] ('rear', line 10)"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("vlp17"), std::string::npos) << r.output;
+    expect_refused(tmp, "rig.yaml", "sensor: vlp16", "sensor: vlp17",
+                   {"sensors[1] ('rear', line 10)", "vlp17"});
+    // Settings checked before anything runs, naming the key.
+    expect_refused(tmp, "start.yaml", "duration: 1", "duration: 1\nstart: yesterday",
+                   {"start.yaml': start: "});
+    expect_refused(tmp, "nav.yaml", "navigation: {trajectory: 'static:2,-3,1.8,0,0,30'}",
+                   "navigation: {nav: 'dis:udp://:0?entity=1.2'}",
+                   {"navigation.nav: ", "entity='1.2'"});
     const RunResult m = run_mirage("rig " + tmp.file("missing.yaml"));
     EXPECT_EQ(m.exit_code, 2) << m.output;
     EXPECT_NE(m.output.find("cannot open"), std::string::npos) << m.output;

@@ -51,13 +51,18 @@ void NavInput::start() {
 
 void NavInput::stop() {
     stop_ = true;
-    if (thread_.joinable()) thread_.join();
+    if (!thread_.joinable()) return;
+    thread_.join();
+    const std::string detail = decoder_->detail();  // the last word, the reader gone
+    std::lock_guard lk(mu_);
+    if (!detail.empty()) counters_.detail = detail;
 }
 
 void NavInput::run() {
     std::array<std::uint8_t, 65536> buf{};
     const auto poll = std::min<core::Nanos>(kPoll, decoder_->tick_period().value_or(kPoll));
     std::int64_t next_detail_ns = 0;
+    const bool host_stamped = decoder_->tick_period().has_value();
     while (!stop_) {
         std::int64_t host_ns = 0;
         const auto fn = [&](const nav::NavSample& s) { on_sample(s, host_ns); };
@@ -91,6 +96,10 @@ void NavInput::run() {
                 case bytestream::ReadStatus::Data: {
                     const std::span<const std::uint8_t> bytes(buf.data(), n);
                     if (record_) record_->bytes(bytes);
+                    // A source that stamps samples with the host clock when it handles them (DIS)
+                    // is paired with that moment, not the kernel's arrival time: the offset's
+                    // lower envelope must not see the handling delay as a clock difference.
+                    if (host_stamped) host_ns = hostclock::monotonic_ns();
                     if (datagrams_)
                         decoder_->feed_datagram(bytes, fn);
                     else

@@ -182,6 +182,7 @@ class RigReader : private scene::YamlReader {
                     if (port != 0) claim("destination " + s.to + ":" + std::to_string(port), key);
             if (s.source_port != 0)
                 claim("source port " + std::to_string(s.source_port), "source_port");
+            if (!s.pcap.empty()) claim("pcap file " + s.pcap, "pcap");
         }
     }
 

@@ -135,6 +135,20 @@ TEST(RigConfig, two_sensors_may_not_claim_one_port) {
                    {"sensors[1].source_port", "source port 40001"});
 }
 
+TEST(RigConfig, two_sensors_may_not_write_one_capture) {
+    std::string text = kGood;
+    text.replace(text.find("    source_port: 40001\n"), 0, "    pcap: out/roof.pcap\n");
+    try {
+        (void)load_rig("/b/car.yaml", &text);
+        ADD_FAILURE() << "accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("sensors[1].pcap: pcap file /b/out/roof.pcap is also "
+                                             "claimed by sensor 'left'"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(RigConfig, the_same_port_on_another_host_is_no_clash) {
     std::string text = kGood;
     text.replace(text.find("{data: 7502, imu: 7503}"), 23, "{data: 2368}");
