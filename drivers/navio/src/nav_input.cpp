@@ -26,16 +26,16 @@ NavInput::NavInput(const navproto::NavUri& uri, navpose::NavFrame frame, navpose
       poses_(poses),
       mapper_(frame, options.mapper),
       pose_log_(options.pose_log),
-      record_(options.record),
-      decoder_(uri.protocol == navproto::NavProtocol::Dis
-                   ? nullptr
-                   : navproto::make_nav_decoder(uri.protocol, options.nmea_date)) {
-    if (uri.protocol == navproto::NavProtocol::Dis) {
+      record_(options.record) {
+    if (uri.protocol == navproto::NavProtocol::Dis) {  // its options ride on the UDP URI
         std::string udp;
         decoder_ = navproto::make_dis_decoder(parse_dis_transport(uri.transport, udp));
         stream_ = bytestream::open_byte_stream(udp);
         datagrams_ = true;
-    } else if (navproto::is_can(uri.protocol)) {
+        return;
+    }
+    decoder_ = navproto::make_nav_decoder(uri.protocol, options.nmea_date);
+    if (navproto::is_can(uri.protocol)) {
         bus_ = can::open_can_bus(uri.transport);
     } else {
         stream_ = bytestream::open_byte_stream(uri.transport);

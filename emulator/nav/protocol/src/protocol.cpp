@@ -72,8 +72,7 @@ class CanAdapter : public NavDecoder {
 // DIS: one Entity State PDU per datagram, followed by dead reckoning between them.
 class DisAdapter : public NavDecoder {
   public:
-    DisAdapter(const dis::TrackConfig& c, UtcClock clock)
-        : track_(c), step_(c.step), clock_(std::move(clock)) {}
+    DisAdapter(const dis::TrackConfig& c, UtcClock clock) : track_(c), clock_(std::move(clock)) {}
     void feed_bytes(std::span<const std::uint8_t> b, const nav::SampleFn&) override {
         other_bytes_ += b.size();  // a byte stream has no PDU boundaries
     }
@@ -82,7 +81,7 @@ class DisAdapter : public NavDecoder {
     }
     void feed_frame(const nav::CanFrame&, const nav::SampleFn&) override { ++other_frames_; }
     void tick(const nav::SampleFn& fn) override { track_.tick(clock_(), fn); }
-    std::optional<core::Nanos> tick_period() const override { return step_; }
+    std::optional<core::Nanos> tick_period() const override { return track_.step(); }
     nav::DecodeCounters counters() const override {
         nav::DecodeCounters c = track_.counters();
         const dis::DisCounters& d = track_.dis_counters();
@@ -103,7 +102,6 @@ class DisAdapter : public NavDecoder {
 
   private:
     dis::EntityTrack track_;
-    core::Nanos step_;
     UtcClock clock_;
     std::uint64_t other_bytes_ = 0, other_frames_ = 0;
 };

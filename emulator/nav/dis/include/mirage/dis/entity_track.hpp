@@ -51,6 +51,7 @@ class EntityTrack {
     core::GpsTime resolve(std::uint32_t raw_timestamp, core::GpsTime now);
 
     bool timed_out(core::GpsTime now) const;
+    core::Nanos step() const { return cfg_.step; }
     std::optional<EntityId> entity() const { return decoder_.filter().entity; }
     nav::DecodeCounters counters() const;
     const DisCounters& dis_counters() const { return decoder_.dis_counters(); }
