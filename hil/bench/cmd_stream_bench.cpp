@@ -5,7 +5,6 @@
 // probe with and without SCHED_FIFO. Writes streams.md and streams.json.
 #include <fmt/format.h>
 #include <pthread.h>
-#include <sys/resource.h>
 #include <sys/utsname.h>
 
 #include <algorithm>
@@ -82,15 +81,6 @@ wire::WireOptions wire_options(const Case& c) {
     w.return_mode = c.mode;
     w.profile = c.profile;
     return w;
-}
-
-double cpu_seconds() {
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    const auto tv = [](const timeval& t) {
-        return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
-    };
-    return tv(ru.ru_utime) + tv(ru.ru_stime);
 }
 
 Machine machine_now() {
@@ -407,7 +397,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
             pthread_setname_np(pthread_self(), "mirage-rx");
             receive_loop(*r, rt_minus_mono, done);
         });
-    const double cpu0 = cpu_seconds();
+    const double cpu0 = hostclock::process_cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     for (auto& r : runs)
         senders.emplace_back([&r] {
@@ -422,7 +412,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         });
     for (auto& t : senders) t.join();
     res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    res.cpu_s = cpu_seconds() - cpu0;
+    res.cpu_s = hostclock::process_cpu_seconds() - cpu0;
     done.store(true, std::memory_order_release);
     for (auto& t : receivers) t.join();
     for (const auto& r : runs) res.rows.push_back(summarize_stream(*r, secs));
@@ -592,7 +582,6 @@ void register_stream_bench(CLI::App& app) {
                               "trajectory");
         auto scene = load_scene_timed(rig_config ? rig_config->scene : "demo", rep.scene_seconds);
         if (rig_config) {
-            rep.streams.rig = o->rig;
             for (const rig::SensorEntry& e : rig_config->sensors)
                 specs.push_back(rig_stream(e, *rig_config));
         } else {

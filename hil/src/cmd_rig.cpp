@@ -5,7 +5,6 @@
 // configuration and opens nothing.
 #include <fmt/format.h>
 #include <pthread.h>
-#include <sys/resource.h>
 
 #include <atomic>
 #include <chrono>
@@ -47,13 +46,6 @@ struct RigRun {
     output::PacketOutputTotals totals;
     std::string error;
 };
-
-double process_cpu_s() {
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    const auto tv = [](const timeval& t) { return double(t.tv_sec) + double(t.tv_usec) / 1e6; };
-    return tv(ru.ru_utime) + tv(ru.ru_stime);
-}
 
 std::unique_ptr<RigRun> open_run(RigSensor& s, const std::shared_ptr<udp::SharedSender>& sender) {
     auto r = std::make_unique<RigRun>();
@@ -155,7 +147,7 @@ std::shared_ptr<udp::SharedSender> make_sender(int rt_priority) {
 // Runs `body` for every sensor on its own thread, with the status line, then the summary.
 void run_all(std::vector<std::unique_ptr<RigRun>>& runs, bool status, const std::atomic<bool>& stop,
              const std::function<void(RigRun&)>& body) {
-    const double cpu0 = process_cpu_s();
+    const double cpu0 = hostclock::process_cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     std::vector<std::thread> threads;
     for (auto& r : runs)
@@ -178,7 +170,7 @@ void run_all(std::vector<std::unique_ptr<RigRun>>& runs, bool status, const std:
     if (status_thread.joinable()) status_thread.join();
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    print_summary(runs, wall, process_cpu_s() - cpu0, stop.load());
+    print_summary(runs, wall, hostclock::process_cpu_seconds() - cpu0, stop.load());
     for (const auto& r : runs)
         if (!r->error.empty())
             throw IoError(fmt::format("rig: sensor '{}': {}", r->sensor->entry.name, r->error));

@@ -1,10 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "mirage/hostclock/host_clock.hpp"
 
+#include <sys/resource.h>
+
 #include <cerrno>
 #include <cstdint>
 
 namespace mirage::hostclock {
+
+double process_cpu_seconds() {
+    rusage ru{};
+    ::getrusage(RUSAGE_SELF, &ru);
+    const auto tv = [](const timeval& t) { return double(t.tv_sec) + double(t.tv_usec) / 1e6; };
+    return tv(ru.ru_utime) + tv(ru.ru_stime);
+}
 namespace {
 
 void sleep_until(clockid_t clock, std::int64_t ns) {

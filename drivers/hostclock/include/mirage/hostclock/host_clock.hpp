@@ -21,6 +21,10 @@ inline std::int64_t realtime_ns() {
     return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
+// CPU time (user + system) of the whole process so far, in seconds (benchmark and rig CPU
+// shares: getrusage).
+double process_cpu_seconds();
+
 // Sleeps until an absolute instant of that clock. Absolute deadlines never accumulate delays into
 // drift, and a signal restarts the sleep toward the same instant, so it never returns early.
 void sleep_until_monotonic(std::int64_t ns);
