@@ -20,6 +20,7 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET libpcap)  # libpcap-dev: pcap capture files
 pkg_check_modules(LZMA REQUIRED IMPORTED_TARGET liblzma)  # liblzma-dev: CRC-64/XZ (Ouster), CRC-32 (NovAtel)
 pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)  # libusb-1.0-0-dev: gs_usb CAN adapters
+pkg_check_modules(MODBUS REQUIRED IMPORTED_TARGET libmodbus)  # libmodbus-dev: the rig's control plane (Modbus TCP/RTU)
 find_package(nlohmann_json 3.11 REQUIRED)  # nlohmann-json3-dev: Ouster metadata, reports
 find_package(Boost 1.74 REQUIRED)           # libboost-dev: Boost.Asio (header-only) UDP sockets
 if(MIRAGE_BUILD_TESTS)

@@ -84,6 +84,12 @@ class PacketOutput {
     // writing the capture failed at any point; the stream itself never stops for it.
     PacketOutputTotals finish();
     const PacketOutputOptions& options() const { return opt_; }
+    // Through a shared sender: its channel's counters so far, from any thread (a rig's control
+    // plane reads them while streaming); nullopt otherwise.
+    std::optional<udp::ChannelCounters> channel_counters() const {
+        if (!shared_) return std::nullopt;
+        return shared_->sender->counters(shared_->id);
+    }
 
   private:
     void tick(std::chrono::steady_clock::time_point now);
