@@ -41,7 +41,7 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
     while (!stop.load() && !(first = poses.newest())) {
         if (std::chrono::steady_clock::now() > deadline) {
             const auto c = nav.counters();
-            throw IoError(
+            throw FirstPoseTimeout(
                 fmt::format("{}: no full pose (position + attitude + time) from '{}' within {} s "
                             "({}; bytes skipped {}{}{})",
                             who, nav_uri, timeout_s, navpose::nav_counters_line(c.decode, c.track),
@@ -82,6 +82,7 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
     bool stale = false;
     std::string stale_reason;
     sensor::PulseSpec spec_first{}, spec_last{};
+    std::optional<core::Pose> frozen;  // the pose held while navigation is faulted frozen
     if (opt_.message_latency) (void)nav_.take_applied();  // the backlog is not latency
 
     for (std::uint64_t k = 0; !stop.load(); k += pulses_per_window) {
@@ -95,21 +96,30 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
 
         pts.clear();
         ++tot_.windows;
-        const auto win = poses_.window(t_first, t_last, (t_last - t_first) / 2);
+        const control::FaultSettings fault =
+            opt_.faults ? opt_.faults->load() : control::FaultSettings{};
+        auto win =
+            fault.stale_nav ? std::nullopt : poses_.window(t_first, t_last, (t_last - t_first) / 2);
         // After the window: every message it used has been listed by then (NavInput lists a
         // message before its samples reach the pose buffer).
         if (opt_.message_latency) latency_.applied(nav_.take_applied());
-        if (win) {
+        if (!fault.freeze_nav) frozen.reset();
+        if (fault.freeze_nav && !frozen && win) frozen = win->trajectory.at(t_first);
+        if (frozen) {  // a frozen INS repeats its last pose whatever arrives
+            wr.render(core::Trajectory::fixed(*frozen), k, pulses_per_window, pts, rstats);
+            stale = false;
+        } else if (win) {
             wr.render(win->trajectory, k, pulses_per_window, pts, rstats);
             if (opt_.message_latency) latency_.rendered(win->used);
             stale = false;
         } else {
             ++tot_.stale_windows;
-            if (!stale) ++tot_.stale_periods;
+            if (!stale) stale_periods_.store(++tot_.stale_periods, std::memory_order_relaxed);
             stale = true;
             const auto q = poses_.at(t_last);
             stale_reason =
-                q.status == navpose::PoseStatus::Empty
+                fault.stale_nav ? "stale navigation injected"
+                : q.status == navpose::PoseStatus::Empty
                     ? "no navigation yet"
                     : fmt::format("no navigation for {:.0f} ms", double(q.age.count()) / 1e6);
         }

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "job.hpp"
+#include "mirage/control/sensor_faults.hpp"
+#include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
 #include "mirage/navio/message_latency.hpp"
 #include "mirage/navio/nav_input.hpp"
@@ -24,6 +26,9 @@ struct LiveOptions {
     // Time the INS messages to the packets (one session per NavInput may: the applied messages
     // are taken from it).
     bool message_latency = true;
+    // Faults a controller injects (docs/control.md §5): stale navigation renders no window,
+    // frozen navigation holds the pose of the moment it froze. Null: none.
+    const control::FaultCell* faults = nullptr;
 };
 
 // The frame navigation is mapped into: the scene's georeference, or a tangent plane at
@@ -32,7 +37,13 @@ navpose::NavFrame live_frame(const Job& job, const std::vector<double>& origin,
                              const std::string& who);
 // Pulses per data packet (whole firing groups): the live loop renders one packet at a time.
 std::size_t pulses_per_packet(const Job& job, double packets_per_second);
-// Waits for the first full pose; throws IoError naming `nav_uri` and the counters after
+// No full pose arrived within the first-navigation timeout.
+class FirstPoseTimeout : public IoError {
+  public:
+    using IoError::IoError;
+};
+
+// Waits for the first full pose; throws FirstPoseTimeout naming `nav_uri` and the counters after
 // `timeout_s`; nullopt when `stop` was set first.
 std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
                                              const navio::NavInput& nav, const std::string& nav_uri,
@@ -76,6 +87,8 @@ class LiveSession {
     // or `stop` is set; messages applied before the call are the backlog, not timed.
     LiveTotals run(wire::Packetizer& packetizer, std::size_t pulses_per_window,
                    const std::atomic<bool>& stop);
+    // Stale periods so far, from any thread.
+    std::uint64_t stale_periods() const { return stale_periods_.load(std::memory_order_relaxed); }
 
   private:
     void print_status(core::GpsTime t_last, bool stale, const std::string& stale_reason);
@@ -86,6 +99,7 @@ class LiveSession {
     const navpose::PoseBuffer& poses_;
     LiveOptions opt_;
     LiveTotals tot_;
+    std::atomic<std::uint64_t> stale_periods_{0};
     navio::MessageLatency latency_;
     std::int64_t next_status_ns_ = 0;
     std::uint64_t packets_at_status_ = 0, bytes_at_status_ = 0, nav_at_status_ = 0;

@@ -102,6 +102,42 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
     return plan;
 }
 
+namespace {
+
+// "drop 1 % in bursts of 3, range bias 0.5 m, …"; empty without faults.
+std::string faults_text(const rig::Faults& f) {
+    std::string s;
+    const auto add = [&s](const std::string& t) { s += (s.empty() ? "" : ", ") + t; };
+    if (f.drop_rate > 0)
+        add(fmt::format("drop {:g} % in bursts of {}", 100 * f.drop_rate, f.drop_burst));
+    if (f.range_bias_m != 0) add(fmt::format("range bias {:g} m", f.range_bias_m));
+    if (f.range_noise_m != 0) add(fmt::format("range noise {:g} m", f.range_noise_m));
+    if (f.stale_nav) add("stale navigation");
+    if (f.freeze_nav) add("frozen navigation");
+    if (f.stop) add("stopped");
+    return s;
+}
+
+std::string control_text(const rig::Control& k) {
+    std::string s = fmt::format("  control: modbus tcp {}", k.tcp);
+    if (!k.rtu.empty())
+        s += fmt::format(", rtu {} {} baud parity {} stop bits {} unit {}", k.rtu, k.baud, k.parity,
+                         k.stop_bits, k.unit);
+    s += fmt::format(", up to {} clients, watchdog {}; waits idle for arm and start\n",
+                     k.max_clients,
+                     k.watchdog_ms ? fmt::format("{} ms", k.watchdog_ms) : std::string("off"));
+    for (std::size_t i = 0; i < k.scenarios.size(); ++i) {
+        const rig::Scenario& x = k.scenarios[i];
+        s += fmt::format("    scenario {}: {}{}{}{}\n", i, x.name,
+                         x.trajectory.empty() ? "" : ", trajectory " + x.trajectory,
+                         x.start.empty() ? "" : ", start " + x.start,
+                         x.duration.empty() ? "" : ", " + x.duration + " s");
+    }
+    return s;
+}
+
+}  // namespace
+
 std::string describe(const RigPlan& plan) {
     const rig::RigConfig& c = plan.config;
     const Job& first = plan.sensors.front()->job;
@@ -135,8 +171,11 @@ std::string describe(const RigPlan& plan) {
             e.to.empty() || r->ports.imu == 0 ? "" : fmt::format(", imu {}", r->ports.imu),
             e.source_port ? fmt::format(", from port {}", e.source_port) : "",
             e.pcap.empty() ? "" : ", pcap " + e.pcap);
+        const std::string f = faults_text(e.faults ? *e.faults : c.faults);
+        if (!f.empty()) s += "    faults: " + f + "\n";
     }
     s += fmt::format("  {} sensors, {:.1f} data packets/s in all\n", plan.sensors.size(), total);
+    if (c.control.enabled) s += control_text(c.control);
     return s;
 }
 

@@ -23,7 +23,9 @@ class RigReader : private scene::YamlReader {
     RigConfig run(const std::string& file, const std::string* text) {
         const YAML::Node root = load(file, text);
         require_map(root, "");
-        check_keys(root, "", {"scene", "navigation", "start", "duration", "threads", "sensors"});
+        check_keys(root, "",
+                   {"scene", "navigation", "start", "duration", "threads", "faults", "control",
+                    "sensors"});
         RigConfig c;
         c.file = file;
         if (!root["scene"]) fail("scene", "missing (demo or a scene file)", root);
@@ -37,6 +39,8 @@ class RigReader : private scene::YamlReader {
         }
         if (root["threads"])
             c.threads = static_cast<int>(integer(root["threads"], "threads", 1, 64));
+        if (root["faults"]) c.faults = faults(root["faults"], "faults", !c.nav.empty());
+        if (root["control"]) control(root["control"], c);
         sensors(root["sensors"], root, c);
         return c;
     }
@@ -76,7 +80,93 @@ class RigReader : private scene::YamlReader {
                 number_in(n["first_nav_timeout"], sub(p, "first_nav_timeout"), 0.1, 3600);
     }
 
-    void sensors(const YAML::Node& n, const YAML::Node& root, RigConfig& c) const {
+    Faults faults(const YAML::Node& n, const std::string& path, bool live) const {
+        require_map(n, path);
+        check_keys(n, path,
+                   {"drop_rate", "drop_burst", "range_bias", "range_noise", "freeze_nav",
+                    "stale_nav", "stop"});
+        Faults f;
+        const auto key = [&](const char* k) { return sub(path, k); };
+        if (n["drop_rate"]) f.drop_rate = number_in(n["drop_rate"], key("drop_rate"), 0, 1);
+        if (n["drop_burst"])
+            f.drop_burst = static_cast<int>(integer(n["drop_burst"], key("drop_burst"), 1, 1000));
+        if (n["range_bias"])
+            f.range_bias_m = number_in(n["range_bias"], key("range_bias"), -32.767, 32.767);
+        if (n["range_noise"])
+            f.range_noise_m = number_in(n["range_noise"], key("range_noise"), 0, 10);
+        if (n["freeze_nav"]) f.freeze_nav = boolean(n["freeze_nav"], key("freeze_nav"));
+        if (f.freeze_nav && !live)
+            fail(key("freeze_nav"), "applies to a live navigation source (navigation.nav)",
+                 n["freeze_nav"]);
+        if (n["stale_nav"]) f.stale_nav = boolean(n["stale_nav"], key("stale_nav"));
+        if (n["stop"]) f.stop = boolean(n["stop"], key("stop"));
+        return f;
+    }
+
+    void control(const YAML::Node& n, RigConfig& c) const {
+        const std::string p = "control";
+        require_map(n, p);
+        check_keys(n, p,
+                   {"tcp", "rtu", "baud", "parity", "stop_bits", "unit", "max_clients",
+                    "watchdog_ms", "scenarios"});
+        Control& k = c.control;
+        k.enabled = true;
+        if (n["tcp"]) k.tcp = string(n["tcp"], sub(p, "tcp"));
+        if (n["rtu"]) k.rtu = string(n["rtu"], sub(p, "rtu"));
+        if (k.tcp == "off" && k.rtu.empty()) fail(sub(p, "tcp"), "off, and no rtu line either", n);
+        if (n["baud"])
+            k.baud = static_cast<int>(integer(n["baud"], sub(p, "baud"), 1200, 4'000'000));
+        if (n["parity"]) {
+            const std::string par = string(n["parity"], sub(p, "parity"));
+            if (par != "none" && par != "even" && par != "odd")
+                fail(sub(p, "parity"), "expected none, even or odd", n["parity"]);
+            k.parity = par == "none" ? 'N' : par == "even" ? 'E' : 'O';
+        }
+        if (n["stop_bits"])
+            k.stop_bits = static_cast<int>(integer(n["stop_bits"], sub(p, "stop_bits"), 1, 2));
+        if (n["unit"]) k.unit = static_cast<int>(integer(n["unit"], sub(p, "unit"), 1, 247));
+        if (n["max_clients"])
+            k.max_clients =
+                static_cast<int>(integer(n["max_clients"], sub(p, "max_clients"), 1, 64));
+        if (n["watchdog_ms"]) {
+            k.watchdog_ms =
+                static_cast<int>(integer(n["watchdog_ms"], sub(p, "watchdog_ms"), 0, 60000));
+            if (k.watchdog_ms != 0 && k.watchdog_ms < 100)
+                fail(sub(p, "watchdog_ms"), "0 (off) or 100..60000", n["watchdog_ms"]);
+        }
+        if (n["scenarios"]) scenarios(n["scenarios"], sub(p, "scenarios"), c);
+    }
+
+    void scenarios(const YAML::Node& n, const std::string& path, RigConfig& c) const {
+        if (!n.IsSequence() || n.size() == 0 || n.size() > 100)
+            fail(path, "expected a list of 1 to 100 scenarios", n);
+        for (std::size_t i = 0; i < n.size(); ++i) {
+            const std::string ip = item(path, i);
+            const YAML::Node& s = n[i];
+            require_map(s, ip);
+            check_keys(s, ip, {"name", "trajectory", "start", "duration"});
+            Scenario x;
+            if (!s["name"]) fail(sub(ip, "name"), "missing", s);
+            x.name = string(s["name"], sub(ip, "name"));
+            if (s["trajectory"]) {
+                if (!c.nav.empty())
+                    fail(sub(ip, "trajectory"), "the rig's navigation is a live source",
+                         s["trajectory"]);
+                const std::string t = string(s["trajectory"], sub(ip, "trajectory"));
+                x.trajectory =
+                    t.starts_with("demo-") || t.starts_with("static:") ? t : file_path(t);
+            }
+            if (s["start"]) x.start = string(s["start"], sub(ip, "start"));
+            if (s["duration"]) {
+                (void)positive(s["duration"], sub(ip, "duration"));
+                x.duration = s["duration"].Scalar();
+            }
+            c.control.scenarios.push_back(x);
+        }
+    }
+
+    void sensors(const YAML::Node& n, const YAML::Node& root, RigConfig& c) {
+        live_ = !c.nav.empty();
         if (!n) fail("sensors", "missing (a rig needs at least one sensor)", root);
         if (!n.IsSequence() || n.size() == 0 || n.size() > 32)
             fail("sensors", "expected a list of 1 to 32 sensors", n);
@@ -89,7 +179,7 @@ class RigReader : private scene::YamlReader {
         require_map(n, path);
         check_keys(n, path,
                    {"name", "sensor", "mount", "return_mode", "rpm", "profile", "to", "source_port",
-                    "ports", "pcap"});
+                    "ports", "pcap", "faults"});
         SensorEntry s;
         s.line = n.Mark().line + 1;
         if (!n["name"]) fail(sub(path, "name"), "missing", n);
@@ -114,6 +204,7 @@ class RigReader : private scene::YamlReader {
         if (n["source_port"]) s.source_port = port(n["source_port"], sub(path, "source_port"));
         if (n["ports"]) ports(n["ports"], sub(path, "ports"), s.ports);
         if (n["pcap"]) s.pcap = file_path(string(n["pcap"], sub(path, "pcap")));
+        if (n["faults"]) s.faults = faults(n["faults"], sub(path, "faults"), live_);
         if (s.to.empty() && s.pcap.empty())
             fail(path, "sensor '" + s.name + "' has nowhere to go: give `to` and/or `pcap`", n);
         if (!s.to.empty() && s.ports.data == 0)
@@ -187,6 +278,7 @@ class RigReader : private scene::YamlReader {
     }
 
     fs::path dir_;
+    bool live_ = false;  // navigation from a live source (freeze_nav allowed)
 };
 
 }  // namespace

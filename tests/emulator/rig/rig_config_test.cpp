@@ -73,11 +73,45 @@ TEST(RigConfig, a_live_navigation_source_takes_mirage_live_settings) {
     EXPECT_EQ(c.first_nav_timeout_s, 30);
 }
 
+TEST(RigConfig, a_control_plane_scenarios_and_default_faults) {
+    std::string text = kGood;
+    text.replace(text.find("threads: 2"), 10,
+                 "threads: 2\nfaults: {range_bias: -0.25, drop_rate: 0.01, drop_burst: 4}\n"
+                 "control:\n  tcp: 127.0.0.1:0\n  rtu: /dev/ttyUSB0\n  parity: even\n"
+                 "  unit: 17\n  watchdog_ms: 500\n  scenarios:\n    - {name: base}\n"
+                 "    - {name: fast, trajectory: demo-car, duration: 4}");
+    text.replace(text.find("    pcap: out/roof.pcap"), 23,
+                 "    pcap: out/roof.pcap\n    faults: {stop: true}");
+    const RigConfig c = load_rig("car.yaml", &text);
+    EXPECT_TRUE(c.control.enabled);
+    EXPECT_EQ(c.control.tcp, "127.0.0.1:0");
+    EXPECT_EQ(c.control.rtu, "/dev/ttyUSB0");
+    EXPECT_EQ(c.control.parity, 'E');
+    EXPECT_EQ(c.control.unit, 17);
+    EXPECT_EQ(c.control.watchdog_ms, 500);
+    ASSERT_EQ(c.control.scenarios.size(), 2u);
+    EXPECT_EQ(c.control.scenarios[1].trajectory, "demo-car");
+    EXPECT_EQ(c.control.scenarios[1].duration, "4");
+    EXPECT_EQ(c.faults.range_bias_m, -0.25);
+    EXPECT_EQ(c.faults.drop_burst, 4);
+    EXPECT_FALSE(c.sensors[0].faults.has_value());
+    ASSERT_TRUE(c.sensors[1].faults.has_value());
+    EXPECT_TRUE(c.sensors[1].faults->stop);
+    EXPECT_FALSE(load_rig("car.yaml", &kGood).control.enabled);  // no section: no server
+}
+
 TEST(RigConfig, the_example_in_recordings_loads) {
     const RigConfig c =
         load_rig(std::string(MIRAGE_SOURCE_DIR) + "/recordings/rigs/car-five-lidars.yaml");
     EXPECT_EQ(c.sensors.size(), 5u);
     EXPECT_EQ(c.trajectory, "demo-car");
+    const RigConfig b =
+        load_rig(std::string(MIRAGE_SOURCE_DIR) + "/recordings/rigs/bench-controlled.yaml");
+    EXPECT_TRUE(b.control.enabled);
+    EXPECT_EQ(b.control.scenarios.size(), 2u);
+    EXPECT_EQ(b.faults.range_noise_m, 0.005);
+    ASSERT_TRUE(b.sensors[1].faults.has_value());
+    EXPECT_EQ(b.sensors[1].faults->range_noise_m, 0);  // its own: none
 }
 
 // `from` replaced by `to` in the good file must fail with a message holding every `want`.
@@ -98,7 +132,7 @@ void expect_refused(const std::string& from, const std::string& to,
 }
 
 TEST(RigConfig, mistakes_name_the_key_path_and_line) {
-    expect_refused("threads: 2", "threads: 2\ncontrol: {}", {"control: unknown key", "(line 6)"});
+    expect_refused("threads: 2", "threads: 2\ncontrols: {}", {"controls: unknown key", "(line 6)"});
     expect_refused("    rpm: 900", "    rpm: 9000", {"sensors[0].rpm", "(line 10)"});
     expect_refused("return_mode: dual", "return_mode: both",
                    {"sensors[0].return_mode", "strongest, last or dual", "(line 9)"});
@@ -119,6 +153,16 @@ TEST(RigConfig, mistakes_name_the_key_path_and_line) {
     expect_refused("  trajectory: static:0,0,1.8,0,0,30", "  nav: x\n  origin: [91, 2, 3]",
                    {"navigation.origin", "latitude"});
     expect_refused("sensors:", "sensor_list:", {"sensor_list: unknown key"});
+    expect_refused("threads: 2", "threads: 2\ncontrol: {watchdog_ms: 50}",
+                   {"control.watchdog_ms", "100..60000", "(line 6)"});
+    expect_refused("threads: 2", "threads: 2\ncontrol: {parity: mark}", {"control.parity"});
+    expect_refused("threads: 2", "threads: 2\ncontrol: {tcp: 'off'}", {"control.tcp", "no rtu"});
+    expect_refused("threads: 2", "threads: 2\ncontrol: {scenarios: [{trajectory: x}]}",
+                   {"control.scenarios[0].name", "missing"});
+    expect_refused("threads: 2", "threads: 2\nfaults: {freeze_nav: true}",
+                   {"faults.freeze_nav", "live navigation"});
+    expect_refused("    pcap: out/roof.pcap", "    pcap: out/roof.pcap\n    faults: {drop_rate: 2}",
+                   {"sensors[1].faults.drop_rate"});
     expect_refused("scene: yard.yaml", "scene: [a, b]", {"scene", "non-empty string"});
     expect_refused("duration: 2.5", "duration: 2.5\nduration: 3", {"duplicate key"});
     expect_refused("threads: 2\n", "threads: 2\n  oops: [\n", {"YAML syntax error", "line"});

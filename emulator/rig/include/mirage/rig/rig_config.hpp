@@ -17,6 +17,17 @@ struct Ports {
     std::uint16_t imu = 0;       // Ouster IMU packets; 0: off
 };
 
+// Faults a sensor starts with and returns to on reset (docs/control.md §5).
+struct Faults {
+    double drop_rate = 0;      // chance a drop burst starts at a packet, 0..1
+    int drop_burst = 1;        // packets per burst, 1..1000
+    double range_bias_m = 0;   // ±32.767
+    double range_noise_m = 0;  // extra Gaussian σ, 0..10
+    bool freeze_nav = false;   // live navigation only: the pose of the moment is held
+    bool stale_nav = false;    // as if no navigation arrived: slots without returns
+    bool stop = false;         // the sensor sends nothing
+};
+
 struct SensorEntry {
     std::string name;                          // unique in the rig: [A-Za-z0-9_-]
     std::string sensor;                        // preset or sensor file (relative to the rig file)
@@ -28,8 +39,31 @@ struct SensorEntry {
     std::string to;                            // destination IPv4 host; empty: none
     std::uint16_t source_port = 0;             // 0: any
     Ports ports;
-    std::string pcap;  // capture of the sensor's packets; empty: none
-    int line = 0;      // where the entry starts in the file (for messages)
+    std::string pcap;              // capture of the sensor's packets; empty: none
+    std::optional<Faults> faults;  // empty: the rig's `faults`
+    int line = 0;                  // where the entry starts in the file (for messages)
+};
+
+// A run a controller may select (holding register 1): the rig's navigation with these changes.
+struct Scenario {
+    std::string name;
+    std::string trajectory;  // trajectory rigs only; empty: the rig's
+    std::string start;       // empty: the rig's
+    std::string duration;    // empty: the rig's
+};
+
+// The Modbus control plane (docs/control.md): with it, `mirage rig` waits for commands.
+struct Control {
+    bool enabled = false;
+    std::string tcp = "127.0.0.1:1502";  // host:port; "off": no TCP server
+    std::string rtu;                     // serial device or pty; empty: no RTU server
+    int baud = 115200;
+    char parity = 'N';  // from none, even, odd
+    int stop_bits = 1;
+    int unit = 1;
+    int max_clients = 8;
+    int watchdog_ms = 0;              // 0: off
+    std::vector<Scenario> scenarios;  // empty: one, the rig as written
 };
 
 struct RigConfig {
@@ -44,6 +78,8 @@ struct RigConfig {
     std::string start;                 // UTC / gps: time of the first pulse; empty: now
     std::string duration;  // seconds; empty: the trajectory's span (static: until Ctrl-C)
     int threads = 1;       // render threads per sensor
+    Faults faults;         // every sensor's, unless it gives its own
+    Control control;
     std::vector<SensorEntry> sensors;
 };
 

@@ -1,0 +1,349 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "rig_run.hpp"
+
+#include <fmt/format.h>
+#include <pthread.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <thread>
+
+#include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
+#include "mirage/navpose/nav_counters.hpp"
+#include "mirage/navproto/protocol.hpp"
+#include "mirage/output/packetizer_sink.hpp"
+#include "mirage/udp/shared_sender.hpp"
+
+namespace mirage::hil {
+namespace {
+
+// From anchoring to the first send: every sensor's renderer starts at once on a few cores, so the
+// rig waits longer than one `mirage emulate` (100 ms) before its first packet is due.
+constexpr core::Nanos kRigStartLead{500'000'000};
+// Live: packets leave this long after their firing time (`mirage live --pipeline-delay-us`).
+constexpr core::Nanos kLivePipelineDelay{250'000};
+
+// A packet on its way out: a stopped sensor withholds it, a drop burst takes it, else it goes
+// to the live session (which times INS messages to it) or straight to the output.
+void send(RigRun& r, const wire::PacketView& p) {
+    const control::FaultSettings f = r.cell->load();
+    r.newest_ns.store(p.time.time_since_epoch().count(), std::memory_order_relaxed);
+    if (f.stop) {
+        r.withheld.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
+    if (r.dropper->drop(f)) {
+        r.dropped.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
+    if (r.session)
+        r.session->on_packet(p);
+    else
+        (*r.out)(p);
+    r.packets.fetch_add(1, std::memory_order_relaxed);
+}
+
+std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
+                                 const std::shared_ptr<udp::SharedSender>& sender,
+                                 const control::FaultSettings& defaults,
+                                 const control::ControlModel* control) {
+    auto r = std::make_unique<RigRun>();
+    r->sensor = &s;
+    output::PacketOutputOptions po;
+    po.realtime = true;
+    po.status_line = false;
+    po.shared_sender = sender;
+    po.pcap_path = s.entry.pcap;
+    output::route_streams(po, s.ports, s.entry.to, s.entry.source_port);
+    r->out = std::make_unique<output::PacketOutput>(po);
+    r->own_cell.store(defaults);
+    r->cell = control ? &control->faults(index) : &r->own_cell;
+    r->dropper = std::make_unique<control::PacketDropper>(s.job.options.seed, index);
+    RigRun* raw = r.get();
+    r->wire = wire::make_wire(
+        wire_context(s.job), s.wire, [raw](const wire::PacketView& p) { send(*raw, p); },
+        s.entry.to);
+    r->faulty = std::make_unique<control::FaultPacketizer>(*r->wire.packetizer, *r->cell,
+                                                           s.job.options.seed, index);
+    return r;
+}
+
+// "\rrig: roof 1280 pkt/s | fl 754 pkt/s …" once a second until `done`.
+void status_loop(const std::vector<std::unique_ptr<RigRun>>& runs, const std::atomic<bool>& done) {
+    std::vector<std::uint64_t> last(runs.size(), 0);
+    auto next = std::chrono::steady_clock::now();
+    while (!done.load()) {
+        next += std::chrono::seconds(1);
+        while (!done.load() && std::chrono::steady_clock::now() < next)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        std::string line = "\rrig:";
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const std::uint64_t n = runs[i]->packets.load(std::memory_order_relaxed);
+            line += fmt::format(" {} {} pkt/s{}", runs[i]->sensor->entry.name, n - last[i],
+                                i + 1 < runs.size() ? " |" : "   ");
+            last[i] = n;
+        }
+        std::fputs(line.c_str(), stderr);
+        std::fflush(stderr);
+    }
+    std::fputs("\n", stderr);
+}
+
+// "  roof: 3701 packets (79.49 MB), …": what one sensor sent and how late; the render CPU of a
+// trajectory run, the stale windows of a live one; what its faults took.
+std::string sensor_line(const RigRun& r, double wall_s) {
+    const auto& t = r.totals;
+    std::string s = fmt::format(
+        "  {}: {} packets ({:.2f} MB), {} points; sent {}, failed sends {}, pcap {}; lateness p50 "
+        "{:.0f} µs, p99 {:.0f} µs, worst {:.0f} µs, late {}",
+        r.sensor->entry.name, t.packets, double(t.bytes) / 1e6, r.faulty->points(), t.sent,
+        t.send_failed, t.pcap_packets, double(t.p50.count()) / 1e3, double(t.p99.count()) / 1e3,
+        double(t.worst_late.count()) / 1e3, t.late);
+    if (r.session) {
+        s += fmt::format("; windows {}, stale windows {} in {} periods", r.live.windows,
+                         r.live.stale_windows, r.live.stale_periods);
+    } else {
+        const double cpu =
+            r.stats.cpu_rays_s + r.stats.cpu_trace_s + r.stats.cpu_shade_s + r.stats.cpu_output_s;
+        s += fmt::format("; pipeline CPU {:.2f} s ({:.1f} % of one core)", cpu,
+                         wall_s > 0 ? 100 * cpu / wall_s : 0.0);
+    }
+    if (r.dropped.load() || r.withheld.load() || r.faulty->stale_points())
+        s += fmt::format("; faults: dropped {}, withheld {}, returns removed {}", r.dropped.load(),
+                         r.withheld.load(), r.faulty->stale_points());
+    if (!r.error.empty()) s += "; FAILED: " + r.error;
+    return s + "\n";
+}
+
+void print_summary(const std::vector<std::unique_ptr<RigRun>>& runs, double wall_s, double cpu_s,
+                   bool interrupted) {
+    std::uint64_t late = 0, failed = 0;
+    for (const auto& r : runs) {
+        std::fputs(sensor_line(*r, wall_s).c_str(), stdout);
+        late += r->totals.late;
+        failed += r->totals.send_failed;
+    }
+    std::printf(
+        "mirage rig: %zu sensors for %.3f s; process CPU %.2f s (%.0f %% of one core); late "
+        "%llu, failed sends %llu%s\n",
+        runs.size(), wall_s, cpu_s, wall_s > 0 ? 100 * cpu_s / wall_s : 0.0,
+        static_cast<unsigned long long>(late), static_cast<unsigned long long>(failed),
+        interrupted ? " (interrupted)" : "");
+    std::fflush(stdout);
+}
+
+// One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
+// the senders of a 2-core machine would wake each other late (docs/rig.md §2).
+std::shared_ptr<udp::SharedSender> make_sender(int rt_priority) {
+    udp::SharedSenderConfig sc;
+    sc.fifo_priority = rt_priority;
+    auto sender = std::make_shared<udp::SharedSender>(sc);
+    if (rt_priority > 0 && !sender->fifo())
+        std::fprintf(stderr, "mirage rig: no SCHED_FIFO for the sender (%s)\n",
+                     sender->fifo_error().c_str());
+    return sender;
+}
+
+std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOptions& o,
+                                               const std::shared_ptr<udp::SharedSender>& sender) {
+    const auto defaults = rig_fault_defaults(plan.config);
+    std::vector<std::unique_ptr<RigRun>> runs;
+    for (std::size_t i = 0; i < plan.sensors.size(); ++i)
+        runs.push_back(open_run(*plan.sensors[i], static_cast<std::uint32_t>(i), sender,
+                                defaults[i], o.control));
+    return runs;
+}
+
+// Runs `body` for every sensor on its own thread, with the status line, then the summary.
+void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
+             const std::function<void(RigRun&)>& body) {
+    const double cpu0 = hostclock::process_cpu_seconds();
+    const auto w0 = std::chrono::steady_clock::now();
+    std::vector<std::thread> threads;
+    for (auto& r : runs) {
+        r->running = true;
+        threads.emplace_back([&r, &body] {
+            pthread_setname_np(pthread_self(), "mirage-rig");
+            try {
+                body(*r);
+                r->totals = r->out->finish();
+            } catch (const std::exception& e) {
+                r->error = e.what();
+                r->failed = true;
+                std::fprintf(stderr, "\nmirage rig: sensor '%s' failed: %s\n",
+                             r->sensor->entry.name.c_str(), e.what());
+            }
+            r->running = false;
+        });
+    }
+    std::atomic<bool> done{false};
+    std::thread status_thread;
+    if (o.status_line) status_thread = std::thread([&] { status_loop(runs, done); });
+    for (auto& t : threads) t.join();
+    done = true;
+    if (status_thread.joinable()) status_thread.join();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    print_summary(runs, wall, hostclock::process_cpu_seconds() - cpu0, o.stop->load());
+    for (const auto& r : runs)
+        if (!r->error.empty())
+            throw IoError(fmt::format("rig: sensor '{}': {}", r->sensor->entry.name, r->error));
+}
+
+// Publishes the runs for the control plane while they run, and withdraws them however the run
+// ends (the runs die with the caller's frame).
+struct Published {
+    RigView* view;
+    Published(RigView* v, std::vector<std::unique_ptr<RigRun>>& runs, const navio::NavInput* nav,
+              const navpose::PoseBuffer* poses)
+        : view(v) {
+        if (view) view->publish(&runs, nav, poses);
+    }
+    ~Published() {
+        if (view) view->clear();
+    }
+    Published(const Published&) = delete;
+    Published& operator=(const Published&) = delete;
+};
+
+}  // namespace
+
+std::vector<control::FaultSettings> rig_fault_defaults(const rig::RigConfig& config) {
+    std::vector<control::FaultSettings> out;
+    for (const auto& s : config.sensors) {
+        const rig::Faults& f = s.faults ? *s.faults : config.faults;
+        control::FaultSettings x;
+        x.drop_rate = static_cast<std::uint16_t>(std::lround(f.drop_rate * 10000));
+        x.drop_burst = static_cast<std::uint16_t>(f.drop_burst);
+        x.range_bias_mm = static_cast<std::int16_t>(std::lround(f.range_bias_m * 1000));
+        x.range_noise_mm = static_cast<std::uint16_t>(std::lround(f.range_noise_m * 1000));
+        x.freeze_nav = f.freeze_nav;
+        x.stale_nav = f.stale_nav;
+        x.stop = f.stop;
+        out.push_back(x);
+    }
+    return out;
+}
+
+void RigView::publish(std::vector<std::unique_ptr<RigRun>>* runs, const navio::NavInput* nav,
+                      const navpose::PoseBuffer* poses) {
+    std::lock_guard lk(m_);
+    runs_ = runs;
+    nav_ = nav;
+    poses_ = poses;
+    rate_at_ns_ = 0;
+    applied_at_ = rate_ = 0;
+}
+
+control::RigStatus RigView::status() const {
+    std::lock_guard lk(m_);
+    control::RigStatus s;
+    if (!runs_) return s;
+    for (const auto& r : *runs_) {
+        control::SensorStatus x;
+        const bool stopped = r->cell->load().stop;
+        x.state = r->failed.load() ? control::SensorState::Failed
+                  : !r->running    ? control::SensorState::Off
+                  : stopped        ? control::SensorState::Stopped
+                                   : control::SensorState::Streaming;
+        x.packets = r->packets.load(std::memory_order_relaxed);
+        x.points = r->faulty->points();
+        x.dropped = r->dropped.load(std::memory_order_relaxed);
+        x.stale_periods = r->session ? r->session->stale_periods() : r->faulty->stale_periods();
+        if (const auto c = r->out->channel_counters()) {
+            x.late = c->late;
+            x.send_failed = c->failed;
+        }
+        s.sim_time_ns = std::max(s.sim_time_ns, r->newest_ns.load(std::memory_order_relaxed));
+        s.sensors.push_back(x);
+    }
+    if (nav_) {
+        const auto nc = nav_->counters();
+        s.nav_rejected = nc.decode.rejected() + nc.track.rejected();
+        const std::int64_t now = hostclock::monotonic_ns();
+        if (now - rate_at_ns_ >= 1'000'000'000) {  // samples applied over the last second
+            if (rate_at_ns_ != 0)
+                rate_ = (nc.track.applied - applied_at_) * 1'000'000'000 /
+                        std::uint64_t(now - rate_at_ns_);
+            rate_at_ns_ = now;
+            applied_at_ = nc.track.applied;
+        }
+        s.nav_rate = rate_;
+        if (poses_ && s.sim_time_ns != 0)
+            if (const auto newest = poses_->newest())
+                s.pose_age_ms = (s.sim_time_ns - newest->time_since_epoch().count()) / 1'000'000;
+    }
+    return s;
+}
+
+// A trajectory: every output's first pulse at the same host instant (one sensor clock).
+void run_rig(RigPlan& plan, const RigRunOptions& o) {
+    const auto sender = make_sender(o.rt_priority);
+    auto runs = open_runs(plan, o, sender);
+    const core::GpsTime t0 = plan.sensors.front()->job.options.start;
+    const std::int64_t anchor = hostclock::monotonic_ns() + kRigStartLead.count();
+    for (auto& r : runs) r->out->anchor(t0, anchor);
+    std::fprintf(stderr, "%s", describe(plan).c_str());
+    Published pub(o.view, runs, nullptr, nullptr);
+    const std::atomic<bool>& stop = *o.stop;
+    run_all(runs, o, [&stop](RigRun& r) {
+        output::PacketizerSink sink(*r.faulty);
+        r.stats = render::render(r.sensor->job.setup(), sink, {}, &stop);
+    });
+}
+
+// A live source: one reader and pose buffer for all sensors; pulse 0 of every sensor at the same
+// INS time, each sensor rendering one packet's pulses as soon as their firing times have passed
+// (mirage live's loop), the first one also timing INS messages to packets.
+void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
+    const rig::RigConfig& c = plan.config;
+    navpose::PoseBufferConfig pc;
+    pc.max_extrapolation = core::Nanos(static_cast<std::int64_t>(c.max_extrapolation_ms * 1e6));
+    navpose::PoseBuffer poses(pc);
+    navio::NavInput nav(navproto::parse_nav_uri(c.nav),
+                        live_frame(plan.sensors.front()->job, c.nav_origin, "rig"), poses, {});
+    const std::atomic<bool>& stop = *o.stop;
+    nav.start();
+    std::fprintf(stderr, "%smirage rig: waiting for navigation on %s%s\n", describe(plan).c_str(),
+                 c.nav.c_str(),
+                 nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
+    if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop, "rig")) return;
+    const std::int64_t t0 = live_pulse0_ns(nav);
+    const auto sender = make_sender(o.rt_priority);
+    LiveOptions lo;
+    lo.status_line = false;
+    lo.duration = plan.live_duration_ns;
+    // One sensor clock: every output anchored with the same INS-to-host offset.
+    const std::int64_t anchor = t0 + nav.offset_ns().value_or(0) + kLivePipelineDelay.count();
+    for (auto& s : plan.sensors) s->job.options.start = core::GpsTime(core::Nanos(t0));
+    auto runs = open_runs(plan, o, sender);
+    for (auto& r : runs) {
+        lo.message_latency = &r == &runs.front();
+        lo.faults = r->cell;
+        r->session = std::make_unique<LiveSession>(r->sensor->job, *r->out, nav, poses, lo);
+        r->out->anchor(r->sensor->job.options.start, anchor);
+    }
+    std::fprintf(stderr, "mirage rig: pulse 0 at gps:%.3f\n", double(t0) / 1e9);
+    {
+        Published pub(o.view, runs, &nav, &poses);
+        run_all(runs, o, [&stop](RigRun& r) {
+            const Job& job = r.sensor->job;
+            r.live = r.session->run(*r.faulty, pulses_per_packet(job, r.sensor->packets_per_second),
+                                    stop);
+            r.wire.packetizer->finish();
+        });
+    }
+    nav.stop();
+    const auto nc = nav.counters();
+    std::printf(
+        "mirage rig: navigation: %s%s%s; INS->packet latency (%s) p50 %.3f ms p99 %.3f ms\n",
+        navpose::nav_counters_line(nc.decode, nc.track).c_str(), nc.detail.empty() ? "" : "; ",
+        nc.detail.c_str(), runs.front()->sensor->entry.name.c_str(),
+        double(runs.front()->live.latency.percentile(0.5).count()) / 1e6,
+        double(runs.front()->live.latency.percentile(0.99).count()) / 1e6);
+}
+
+}  // namespace mirage::hil
