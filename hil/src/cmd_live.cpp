@@ -39,7 +39,7 @@ void register_live(CLI::App& app) {
         std::string pcap;
         std::string duration;
         double max_extrapolation_ms = 50, max_jump_m = 20, pipeline_delay_us = 250;
-        double first_nav_timeout_s = 10, undulation_m = 0;
+        double first_nav_timeout_s = 0, undulation_m = 0;
         std::vector<double> nav_origin;
         std::string fake_ins;
         double fake_ins_rate = 100;
@@ -81,7 +81,9 @@ void register_live(CLI::App& app) {
                     "Packets leave at firing time + this (room to render a packet)")
         ->capture_default_str();
     cmd->add_option("--first-nav-timeout", o->first_nav_timeout_s,
-                    "Seconds to wait for the first full pose before failing")
+                    "Send nothing until the first full pose and fail without one within this many "
+                    "seconds (default 0: stream without returns until it comes)")
+        ->check(CLI::Range(0.0, 3600.0))
         ->capture_default_str();
     cmd->add_option("--undulation", o->undulation_m,
                     "Geoid height added to heights an INS reports above MSL")
@@ -228,15 +230,6 @@ void register_live(CLI::App& app) {
                      ouster ? "ouster" : "velodyne", job.sensor.name.c_str(), o->nav.c_str(),
                      nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
         std::fflush(stderr);
-        const std::optional<core::GpsTime> first =
-            wait_first_pose(poses, nav, o->nav, o->first_nav_timeout_s, stop, "live");
-        if (!first) {
-            finish_recording();
-            return;
-        }
-        const std::int64_t t0 = live_pulse0_ns(nav);
-        job.options.start = core::GpsTime(core::Nanos(t0));
-
         output::PacketOutputOptions po;
         po.realtime = true;
         po.status_line = false;
@@ -253,6 +246,42 @@ void register_live(CLI::App& app) {
         LiveOptions lo;
         lo.status_line = !o->no_status;
         if (!o->duration.empty()) lo.duration = parse_seconds(o->duration, "--duration");
+        // Without --first-nav-timeout the sensor streams without returns until the first full
+        // pose, as a unit spins before GPS lock; with it, it sends nothing until then and fails
+        // when none comes in time (docs/live-navigation.md §1).
+        bool stop_after_first_phase = false;  // the duration passed before the first pose
+        if (o->first_nav_timeout_s > 0) {
+            if (!wait_first_pose(poses, nav, o->nav, o->first_nav_timeout_s, stop, "live")) {
+                finish_recording();
+                return;
+            }
+        } else if (!await_first_pose(poses, stop, kFirstPoseSettleS) && !stop.load()) {
+            std::fprintf(stderr,
+                         "mirage live: no full pose yet: streaming without returns on the host "
+                         "clock until one arrives\n");
+            const LiveTotals t1 =
+                stream_before_first_pose(job, out, nav, poses, lo, wo, o->to, delay, stop);
+            std::printf(
+                "mirage live: before the first pose: %llu packets without returns in "
+                "%.3f s\n",
+                static_cast<unsigned long long>(t1.packets), t1.seconds);
+            std::fflush(stdout);
+            if (!poses.newest()) {
+                stop_after_first_phase = true;  // the duration passed first
+            } else if (lo.duration.count() > 0) {
+                lo.duration = std::max(
+                    core::Nanos(1),
+                    lo.duration - core::Nanos(static_cast<std::int64_t>(t1.seconds * 1e9)));
+            }
+        }
+        if (stop.load() || stop_after_first_phase) {
+            (void)out.finish();
+            finish_recording();
+            return;
+        }
+        const std::optional<core::GpsTime> first = poses.newest();
+        const std::int64_t t0 = live_pulse0_ns(nav);
+        job.options.start = core::GpsTime(core::Nanos(t0));
         LiveSession session(job, out, nav, poses, lo);
         wire::WireSetup w = wire::make_wire(
             wire_context(job), wo, [&](const wire::PacketView& p) { session.on_packet(p); }, o->to);

@@ -53,6 +53,48 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
     return first;
 }
 
+bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>& stop,
+                      double seconds) {
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::milliseconds(static_cast<int>(seconds * 1e3));
+    while (!stop.load() && !poses.newest() && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return !stop.load() && poses.newest().has_value();
+}
+
+std::int64_t host_gps_offset_ns() {
+    const std::int64_t mono = hostclock::monotonic_ns();
+    const std::int64_t gps =
+        core::gps_from_unix_ns(hostclock::realtime_ns()).time_since_epoch().count();
+    return mono - gps;
+}
+
+std::int64_t host_pulse0_ns() {
+    const std::int64_t gps = hostclock::monotonic_ns() - host_gps_offset_ns();
+    return (gps / 1'000'000 + 20) * 1'000'000;
+}
+
+LiveTotals stream_before_first_pose(Job& job, output::PacketOutput& out, navio::NavInput& nav,
+                                    const navpose::PoseBuffer& poses, LiveOptions lo,
+                                    const wire::WireOptions& wo, const std::string& to,
+                                    core::Nanos delay, const std::atomic<bool>& stop) {
+    const std::int64_t off = host_gps_offset_ns();
+    job.options.start = core::GpsTime(core::Nanos(host_pulse0_ns()));
+    lo.until_first_pose = true;
+    lo.host_clock_offset_ns = off;
+    lo.message_latency = false;
+    LiveSession session(job, out, nav, poses, lo);
+    wire::WireContext ctx = wire_context(job);
+    ctx.gps_locked = false;  // no fix yet: PPS absent, $GPRMC void
+    wire::WireSetup w = wire::make_wire(
+        ctx, wo, [&](const wire::PacketView& p) { session.on_packet(p); }, to);
+    out.anchor(job.options.start,
+               job.options.start.time_since_epoch().count() + off + delay.count());
+    LiveTotals t = session.run(*w.packetizer, pulses_per_packet(job, w.packets_per_second), stop);
+    w.packetizer->finish();
+    return t;
+}
+
 std::int64_t live_pulse0_ns(const navio::NavInput& nav) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     const std::int64_t ins_now = hostclock::monotonic_ns() - nav.offset_ns().value_or(0);
@@ -86,12 +128,14 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
     if (opt_.message_latency) (void)nav_.take_applied();  // the backlog is not latency
 
     for (std::uint64_t k = 0; !stop.load(); k += pulses_per_window) {
+        if (opt_.until_first_pose && poses_.newest()) break;
         scan.pulses(k, 1, &spec_first);
         scan.pulses(k + pulses_per_window - 1, 1, &spec_last);
         const core::GpsTime t_first = start + core::Nanos(spec_first.t_ns);
         const core::GpsTime t_last = start + core::Nanos(spec_last.t_ns);
         if (opt_.duration.count() > 0 && t_first - start >= opt_.duration) break;
-        const std::int64_t off = nav_.offset_ns().value_or(0);
+        const std::int64_t off =
+            opt_.host_clock_offset_ns ? *opt_.host_clock_offset_ns : nav_.offset_ns().value_or(0);
         hostclock::sleep_until_monotonic(t_last.time_since_epoch().count() + off);
 
         pts.clear();
@@ -120,7 +164,7 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
             stale_reason =
                 fault.stale_nav ? "stale navigation injected"
                 : q.status == navpose::PoseStatus::Empty
-                    ? "no navigation yet"
+                    ? "no full pose yet (no fix)"
                     : fmt::format("no navigation for {:.0f} ms", double(q.age.count()) / 1e6);
         }
         tot_.points += pts.size();

@@ -29,7 +29,15 @@ struct LiveOptions {
     // Faults a controller injects (docs/control.md §5): stale navigation renders no window,
     // frozen navigation holds the pose of the moment it froze. Null: none.
     const control::FaultCell* faults = nullptr;
+    // Before the first pose (docs/live-navigation.md §1): end the run when one arrives, and pace
+    // on this host-clock offset (CLOCK_MONOTONIC − GPS time from CLOCK_REALTIME) instead of the
+    // INS's, which may not be known yet.
+    bool until_first_pose = false;
+    std::optional<std::int64_t> host_clock_offset_ns;
 };
+
+// How long a command waits for the first full pose before it streams without returns.
+inline constexpr double kFirstPoseSettleS = 1.0;
 
 // The frame navigation is mapped into: the scene's georeference, or a tangent plane at
 // `origin` (lat, lon, h). `who` names the command in errors.
@@ -49,6 +57,13 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
                                              const navio::NavInput& nav, const std::string& nav_uri,
                                              double timeout_s, const std::atomic<bool>& stop,
                                              const std::string& who);
+// True once the pose buffer holds a pose; false after `seconds` or when `stop` is set.
+bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>& stop,
+                      double seconds);
+// The host's GPS time (CLOCK_REALTIME through the leap-second table) as a CLOCK_MONOTONIC
+// offset, and a pulse 0 20 ms ahead on it (whole ms): the sensor clock before the INS has one.
+std::int64_t host_gps_offset_ns();
+std::int64_t host_pulse0_ns();
 // Pulse 0's INS time (ns): a serial line may hold a backlog of old messages, so 250 ms pass for
 // the INS-to-host offset (lower envelope of arrival − INS time) to settle on messages arriving
 // live; then the present INS time + 20 ms, whole ms.
@@ -104,5 +119,12 @@ class LiveSession {
     std::int64_t next_status_ns_ = 0;
     std::uint64_t packets_at_status_ = 0, bytes_at_status_ = 0, nav_at_status_ = 0;
 };
+
+// Streams `job`'s packets without returns on the host's clock until the first full pose, the
+// duration or `stop` — as a unit spins before GPS lock; `out` is anchored here and left open.
+LiveTotals stream_before_first_pose(Job& job, output::PacketOutput& out, navio::NavInput& nav,
+                                    const navpose::PoseBuffer& poses, LiveOptions lo,
+                                    const wire::WireOptions& wo, const std::string& to,
+                                    core::Nanos delay, const std::atomic<bool>& stop);
 
 }  // namespace mirage::hil

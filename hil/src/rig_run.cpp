@@ -46,6 +46,21 @@ void send(RigRun& r, const wire::PacketView& p) {
     r.packets.fetch_add(1, std::memory_order_relaxed);
 }
 
+// The sensor's encoder for its job's current start (a live rig builds it again when the INS's
+// first pose moves the sensor clock from the host's to the INS's); before the first fix the
+// position packets say there is none.
+void rewire(RigRun& r, std::uint32_t index, bool gps_locked = true) {
+    const RigSensor& s = *r.sensor;
+    RigRun* raw = &r;
+    r.faulty.reset();
+    wire::WireContext ctx = wire_context(s.job);
+    ctx.gps_locked = gps_locked;
+    r.wire = wire::make_wire(
+        ctx, s.wire, [raw](const wire::PacketView& p) { send(*raw, p); }, s.entry.to);
+    r.faulty = std::make_unique<control::FaultPacketizer>(*r.wire.packetizer, *r.cell,
+                                                          s.job.options.seed, index);
+}
+
 std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
                                  const std::shared_ptr<udp::SharedSender>& sender,
                                  const control::FaultSettings& defaults,
@@ -62,12 +77,7 @@ std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
     r->own_cell.store(defaults);
     r->cell = control ? &control->faults(index) : &r->own_cell;
     r->dropper = std::make_unique<control::PacketDropper>(s.job.options.seed, index);
-    RigRun* raw = r.get();
-    r->wire = wire::make_wire(
-        wire_context(s.job), s.wire, [raw](const wire::PacketView& p) { send(*raw, p); },
-        s.entry.to);
-    r->faulty = std::make_unique<control::FaultPacketizer>(*r->wire.packetizer, *r->cell,
-                                                           s.job.options.seed, index);
+    rewire(*r, index);
     return r;
 }
 
@@ -158,18 +168,19 @@ std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOption
 }
 
 // Runs `body` for every sensor on its own thread, with the status line, then the summary.
+// `before_first_pose`: the outputs stay open for the run that follows.
 void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
-             const std::function<void(RigRun&)>& body) {
+             const std::function<void(RigRun&)>& body, bool before_first_pose = false) {
     const double cpu0 = hostclock::process_cpu_seconds();
     const auto w0 = std::chrono::steady_clock::now();
     std::vector<std::thread> threads;
     for (auto& r : runs) {
         r->running = true;
-        threads.emplace_back([&r, &body] {
+        threads.emplace_back([&r, &body, before_first_pose] {
             pthread_setname_np(pthread_self(), "mirage-rig");
             try {
                 body(*r);
-                r->totals = r->out->finish();
+                if (!before_first_pose) r->totals = r->out->finish();
             } catch (const std::exception& e) {
                 r->error = e.what();
                 r->failed = true;
@@ -187,7 +198,13 @@ void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
     if (status_thread.joinable()) status_thread.join();
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    print_summary(runs, wall, hostclock::process_cpu_seconds() - cpu0, o.stop->load());
+    if (before_first_pose)
+        std::printf(
+            "mirage rig: before the first pose: %.3f s of packets without returns (%llu "
+            "from the first sensor)\n",
+            wall, static_cast<unsigned long long>(runs.front()->packets.load()));
+    else
+        print_summary(runs, wall, hostclock::process_cpu_seconds() - cpu0, o.stop->load());
     for (const auto& r : runs)
         if (!r->error.empty())
             throw IoError(fmt::format("rig: sensor '{}': {}", r->sensor->entry.name, r->error));
@@ -208,6 +225,51 @@ struct Published {
     Published(const Published&) = delete;
     Published& operator=(const Published&) = delete;
 };
+
+// Every sensor streams without returns on the host's clock (pulse 0 at the host's GPS time)
+// until the first full pose; `lo.duration` keeps what is left of the run. False when the run
+// ended first (stopped, or its duration passed): the outputs are then finished.
+bool stream_rig_before_first_pose(RigPlan& plan, const RigRunOptions& o,
+                                  const std::shared_ptr<udp::SharedSender>& sender,
+                                  navio::NavInput& nav, const navpose::PoseBuffer& poses,
+                                  LiveOptions& lo, std::vector<std::unique_ptr<RigRun>>& runs) {
+    std::fprintf(stderr,
+                 "mirage rig: no full pose yet: streaming without returns on the host "
+                 "clock until one arrives\n");
+    const double cpu0 = hostclock::process_cpu_seconds();
+    const std::int64_t h0 = host_pulse0_ns(), off = host_gps_offset_ns();
+    for (auto& s : plan.sensors) s->job.options.start = core::GpsTime(core::Nanos(h0));
+    runs = open_runs(plan, o, sender);
+    for (std::size_t i = 0; i < runs.size(); ++i) rewire(*runs[i], std::uint32_t(i), false);
+    LiveOptions l1 = lo;
+    l1.until_first_pose = true;
+    l1.host_clock_offset_ns = off;
+    l1.message_latency = false;
+    for (auto& r : runs) {
+        l1.faults = r->cell;
+        r->session = std::make_unique<LiveSession>(r->sensor->job, *r->out, nav, poses, l1);
+        r->out->anchor(r->sensor->job.options.start, h0 + off + kLivePipelineDelay.count());
+    }
+    const std::atomic<bool>& stop = *o.stop;
+    Published pub(o.view, runs, &nav, &poses);  // withdrawn before the encoders are rebuilt
+    run_all(
+        runs, o,
+        [&stop](RigRun& r) {
+            r.session->run(*r.faulty,
+                           pulses_per_packet(r.sensor->job, r.sensor->packets_per_second), stop);
+            r.wire.packetizer->finish();
+        },
+        true);
+    const core::Nanos elapsed(hostclock::monotonic_ns() - off - h0);
+    if (lo.duration.count() > 0) lo.duration = std::max(core::Nanos(1), lo.duration - elapsed);
+    if (stop.load() || !poses.newest()) {  // stopped, or the duration passed first
+        for (auto& r : runs) r->totals = r->out->finish();
+        print_summary(runs, double(elapsed.count()) / 1e9, hostclock::process_cpu_seconds() - cpu0,
+                      stop.load());
+        return false;
+    }
+    return true;
+}
 
 }  // namespace
 
@@ -310,16 +372,26 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
     std::fprintf(stderr, "%smirage rig: waiting for navigation on %s%s\n", describe(plan).c_str(),
                  c.nav.c_str(),
                  nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
-    if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop, "rig")) return;
-    const std::int64_t t0 = live_pulse0_ns(nav);
     const auto sender = make_sender(o.rt_priority);
+    std::vector<std::unique_ptr<RigRun>> runs;
     LiveOptions lo;
     lo.status_line = false;
     lo.duration = plan.live_duration_ns;
+    // Without first_nav_timeout the sensors stream without returns on the host's clock until the
+    // first full pose (docs/rig.md §2); with it, nothing is sent until then.
+    if (c.first_nav_timeout_s > 0) {
+        if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop, "rig")) return;
+    } else if (!await_first_pose(poses, stop, kFirstPoseSettleS) && !stop.load()) {
+        if (!stream_rig_before_first_pose(plan, o, sender, nav, poses, lo, runs)) return;
+    }
+    const std::int64_t t0 = live_pulse0_ns(nav);
     // One sensor clock: every output anchored with the same INS-to-host offset.
     const std::int64_t anchor = t0 + nav.offset_ns().value_or(0) + kLivePipelineDelay.count();
     for (auto& s : plan.sensors) s->job.options.start = core::GpsTime(core::Nanos(t0));
-    auto runs = open_runs(plan, o, sender);
+    if (runs.empty())
+        runs = open_runs(plan, o, sender);
+    else
+        for (std::size_t i = 0; i < runs.size(); ++i) rewire(*runs[i], std::uint32_t(i));
     for (auto& r : runs) {
         lo.message_latency = &r == &runs.front();
         lo.faults = r->cell;
@@ -327,15 +399,13 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
         r->out->anchor(r->sensor->job.options.start, anchor);
     }
     std::fprintf(stderr, "mirage rig: pulse 0 at gps:%.3f\n", double(t0) / 1e9);
-    {
-        Published pub(o.view, runs, &nav, &poses);
-        run_all(runs, o, [&stop](RigRun& r) {
-            const Job& job = r.sensor->job;
-            r.live = r.session->run(*r.faulty, pulses_per_packet(job, r.sensor->packets_per_second),
-                                    stop);
-            r.wire.packetizer->finish();
-        });
-    }
+    Published pub(o.view, runs, &nav, &poses);
+    run_all(runs, o, [&stop](RigRun& r) {
+        const Job& job = r.sensor->job;
+        r.live =
+            r.session->run(*r.faulty, pulses_per_packet(job, r.sensor->packets_per_second), stop);
+        r.wire.packetizer->finish();
+    });
     nav.stop();
     const auto nc = nav.counters();
     std::printf(

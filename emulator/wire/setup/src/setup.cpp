@@ -117,6 +117,15 @@ WireSetup make_wire(const WireContext& ctx, const WireOptions& options, wire::Pa
         velodyne::PacketizerOptions po;
         po.position_packets = options.position_packets;
         if (options.position_packets) po.position = position_fn(ctx);
+        if (!ctx.gps_locked) {
+            po.position = [](core::GpsTime) {
+                velodyne::GeoFix none;
+                none.valid = false;
+                return none;
+            };
+            po.position_options.pps = velodyne::PpsStatus::Absent;
+            po.hdl64_gps_status = 0;
+        }
         auto p =
             std::make_unique<velodyne::Packetizer>(d, mode, sensor, ctx.start, std::move(sink), po);
         w.packets_per_second = d.packets_per_second(mode);  // firing timing is fixed; rpm is not

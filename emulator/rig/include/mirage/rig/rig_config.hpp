@@ -74,8 +74,10 @@ struct RigConfig {
     std::string nav;
     std::vector<double> nav_origin;    // lat, lon, h: tangent-plane frame; empty: the scene's
     double max_extrapolation_ms = 50;  // beyond the newest sample: stale
-    double first_nav_timeout_s = 10;   // no full pose by then: exit 1
-    std::string start;                 // UTC / gps: time of the first pulse; empty: now
+    // > 0: send nothing until the first full pose and fail without one by then; 0: stream
+    // without returns on the host's clock until it comes (docs/rig.md §2).
+    double first_nav_timeout_s = 0;
+    std::string start;     // UTC / gps: time of the first pulse; empty: now
     std::string duration;  // seconds; empty: the trajectory's span (static: until Ctrl-C)
     int threads = 1;       // render threads per sensor
     Faults faults;         // every sensor's, unless it gives its own

@@ -30,6 +30,10 @@ struct WireContext {
     const core::Trajectory& trajectory;
     core::Mount mount;
     core::GpsTime start{};
+    // The sensor clock is disciplined by GPS (a fix and its PPS, or a trajectory's GPS time).
+    // False before an INS's first fix: Velodyne position packets then report PPS absent and a
+    // void $GPRMC, as a unit before lock (docs/wire-formats.md §1.9).
+    bool gps_locked = true;
 };
 
 // A sensor's packet encoder and the side files its clients need.
