@@ -379,5 +379,119 @@ TEST(RigControl, mbpoll_and_pymodbus_drive_the_rig_over_tcp_and_rtu) {
     ::waitpid(socat, nullptr, 0);
 }
 
+core::GpsTime parse_t0(const std::string& line) {
+    std::smatch m;
+    if (!std::regex_search(line, m, std::regex("t0 gps:([0-9]+\\.[0-9]+)"))) return {};
+    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
+}
+
+// Median distance from the yard of the packets' points, all placed with one pose.
+double median_with_pose(const std::vector<std::vector<std::uint8_t>>& packets,
+                        const core::Pose& pose) {
+    std::vector<double> err;
+    velodyne::DecodedPacket dp;
+    for (const auto& p : packets) {
+        if (p.size() != 1206 || velodyne::decode_data(p, nullptr, dp) != velodyne::DecodeStatus::Ok)
+            continue;
+        for (const auto& f : dp.firing)
+            if (f.distance_m > 0) err.push_back(distance_to_yard(pose.apply({f.x, f.y, f.z})));
+    }
+    if (err.empty()) return -1;
+    std::nth_element(err.begin(), err.begin() + std::ptrdiff_t(err.size() / 2), err.end());
+    return err[err.size() / 2];
+}
+
+// A live rig (DIS) under control: freezing navigation holds one pose — the points then fit a
+// single pose of the circling car and not the truth at their times — and stale navigation
+// sends packets without returns, counted as a stale period.
+TEST(RigControl, frozen_and_stale_navigation_on_a_live_rig) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    write_trajectory(tmp.file("circle.csv"));
+    const core::Trajectory truth = core::load_trajectory_csv(
+        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
+        core::Interpolation::Cubic);
+    Receiver rx;
+    {
+        std::ofstream(tmp.file("rig.yaml"))
+            << "scene: yard.yaml\n"
+               "navigation: {nav: 'dis:udp://127.0.0.1:0?entity=1.1.1', max_extrapolation_ms: "
+               "150}\n"
+               "control: {tcp: '127.0.0.1:0'}\n"
+               "sensors:\n"
+               "  - {name: roof, sensor: vlp16, to: 127.0.0.1, ports: {data: "
+            << rx.port() << "}}\n";
+    }
+    RigProcess rig(tmp.file("rig.yaml"));
+    ASSERT_GT(rig.port, 0) << rig.b.output;
+    ModbusClient mb(rig.port);
+    ASSERT_EQ(mb.write(0, 1), 1);
+    ASSERT_EQ(mb.write(0, 2), 1);
+    std::smatch m;
+    const std::string l = rig.b.wait_for(std::regex("udp port [0-9]+"));
+    ASSERT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << rig.b.output;
+    BackgroundMirage fake = start_mirage(
+        "fake-ins --scene " + tmp.file("yard.yaml") + " --trajectory " + tmp.file("circle.csv") +
+        " --protocol dis --duration 10 --to udp://127.0.0.1:" + m[1].str());
+    const core::GpsTime t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
+    ASSERT_FALSE(rig.b.wait_for(std::regex("pulse 0 at gps")).empty()) << rig.b.output;
+    const std::size_t live_from = rx.count();
+    ASSERT_TRUE(eventually([&] { return rx.count() > live_from + 1000; }, 8)) << rig.b.output;
+    // Freeze: after the packets in flight, every point fits one pose of the circle.
+    ASSERT_EQ(mb.write(fault_hr(0, 2), 1), 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const std::size_t frozen_from = rx.count();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    const auto frozen = rx.since(frozen_from);
+    ASSERT_EQ(mb.write(fault_hr(0, 2), 0), 1);
+    // Stale: packets go on, without returns; one stale period counted.
+    ASSERT_EQ(mb.write(fault_hr(0, 5), 1), 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const std::size_t stale_from = rx.count();
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    const auto stale = rx.since(stale_from);
+    const std::uint32_t stale_periods = mb.in32(sensor_in(0, 10));
+    ASSERT_EQ(mb.write(0, 3), 1);
+    EXPECT_EQ(rig.interrupt(), 0) << rig.b.output;
+    (void)fake.finish();
+    // The frozen stretch against the truth at the points' times, and against the best single
+    // pose of the circle within the 1 s before the stretch.
+    const Stats moving = check_points(frozen, truth, t0);
+    velodyne::DecodedPacket first;
+    ASSERT_EQ(velodyne::decode_data(frozen.front(), nullptr, first), velodyne::DecodeStatus::Ok);
+    const std::int64_t hour = core::unix_ns_from_gps(t0) / 3'600'000'000'000 * 3'600'000'000'000;
+    core::GpsTime t_first = core::gps_from_unix_ns(hour + std::int64_t(first.timestamp_us) * 1000);
+    if (t_first < t0) t_first += std::chrono::hours(1);
+    std::vector<std::vector<std::uint8_t>> sample;  // every 5th packet keeps the search short
+    for (std::size_t i = 0; i < frozen.size(); i += 5) sample.push_back(frozen[i]);
+    double best = 1e9, best_dt = 0;
+    for (int ms = 0; ms <= 1000; ms += 5) {
+        const core::GpsTime t = t_first - std::chrono::milliseconds(ms);
+        const double e = median_with_pose(sample, truth.at(truth.begin() + (t - t0)));
+        if (e >= 0 && e < best) {
+            best = e;
+            best_dt = ms * 1e-3;
+        }
+    }
+    std::size_t ok = 0, returns = 0;
+    velodyne::DecodedPacket dp;
+    for (const auto& p : stale)
+        if (velodyne::decode_data(p, nullptr, dp) == velodyne::DecodeStatus::Ok) {
+            ++ok;
+            for (const auto& f : dp.firing) returns += f.distance_m > 0;
+        }
+    std::printf(
+        "[ rig freeze ] %zu frozen packets: median %.4f m against the truth at their "
+        "times, %.4f m against one pose %.3f s before the first; stale: %zu packets, %zu "
+        "returns, %u stale periods\n",
+        frozen.size(), moving.median, best, best_dt, ok, returns, stale_periods);
+    EXPECT_GT(frozen.size(), 900u);
+    EXPECT_GT(moving.median, 0.3);
+    EXPECT_LT(best, 0.05);
+    EXPECT_GT(ok, 400u);
+    EXPECT_EQ(returns, 0u);
+    EXPECT_EQ(stale_periods, 1u);
+}
+
 }  // namespace
 }  // namespace mirage::test
