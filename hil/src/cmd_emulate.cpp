@@ -71,6 +71,11 @@ void register_emulate(CLI::App& app) {
     cmd->add_option("--profile", o->wire.profile,
                     "Ouster UDP profile: LEGACY, RNG19_RFL8_SIG16_NIR16 or RNG15_RFL8_NIR8")
         ->capture_default_str();
+    cmd->add_option("--timestamp-mode", o->wire.timestamp_mode,
+                    "Ouster: TIME_FROM_INTERNAL_OSC, TIME_FROM_SYNC_PULSE_IN or TIME_FROM_PTP_1588")
+        ->check(CLI::IsMember(
+            {"TIME_FROM_INTERNAL_OSC", "TIME_FROM_SYNC_PULSE_IN", "TIME_FROM_PTP_1588"}))
+        ->capture_default_str();
     cmd->add_option("--pcap", o->pcap, "Also write the packets to this pcap (ns timestamps)");
     cmd->add_option("--calibration-out", o->calibration_out,
                     "Velodyne calibration YAML (ROS velodyne_pointcloud) or Ouster metadata JSON; "
@@ -102,9 +107,13 @@ void register_emulate(CLI::App& app) {
                 "otherwise streams until Ctrl-C)");
         if (forever) in.duration = "86400";  // until interrupted (a day at most)
         const bool csv = !is_static && !is_demo_trajectory(in.trajectory);
-        if (in.start.empty() && !csv) in.start = gps_now_spec();
+        const bool start_now = in.start.empty() && !csv;
+        if (start_now) in.start = gps_now_spec();
 
         Job job = load_job(in);
+        // Started "now" in real time: the first pulse moves to the host's GPS time ahead of the
+        // schedule, so the packets carry CLOCK_REALTIME's time (docs/time.md §1).
+        if (start_now && !o->afap) move_start(job, host_gps_time_ahead(kHostClockStartLead));
         wire::prepare_sensor(job.sensor, o->wire, o->rpm);
         if (!o->afap) set_render_lead(job, output::kEmulateRenderLead);
         const bool ouster = job.sensor.wire.family == sensor::WireFamily::Ouster;
@@ -127,6 +136,9 @@ void register_emulate(CLI::App& app) {
         wire::WireSetup w = wire::make_wire(
             wire_context(job), wo, [&out](const wire::PacketView& p) { (*out)(p); }, o->to);
         out.emplace(po);
+        if (start_now && !o->afap)
+            out->anchor(job.options.start,
+                        job.options.start.time_since_epoch().count() + host_gps_offset_ns());
         std::string side = o->calibration_out;
         if (side.empty() && !o->pcap.empty()) side = default_side_path(o->pcap, w.side_file_ext);
         if (!side.empty()) write_text_file(side, w.side_file, "emulate: " + w.side_file_kind);

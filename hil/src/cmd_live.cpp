@@ -68,6 +68,11 @@ void register_live(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--rpm", o->rpm, "Velodyne rotation rate")->check(CLI::NonNegativeNumber);
     cmd->add_option("--profile", o->wire.profile, "Ouster UDP profile")->capture_default_str();
+    cmd->add_option("--timestamp-mode", o->wire.timestamp_mode,
+                    "Ouster: TIME_FROM_INTERNAL_OSC, TIME_FROM_SYNC_PULSE_IN or TIME_FROM_PTP_1588")
+        ->check(CLI::IsMember(
+            {"TIME_FROM_INTERNAL_OSC", "TIME_FROM_SYNC_PULSE_IN", "TIME_FROM_PTP_1588"}))
+        ->capture_default_str();
     cmd->add_option("--pcap", o->pcap, "Also write the packets to this pcap");
     cmd->add_option("--duration", o->duration, "Seconds to run (default: until Ctrl-C)");
     cmd->add_option("--max-extrapolation-ms", o->max_extrapolation_ms,

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "mirage/core/error.hpp"
+#include "mirage/hostclock/host_clock.hpp"
 #include "mirage/navproto/nav_log_resim.hpp"
 #include "mirage/scene/demo_town.hpp"
 #include "mirage/scene/loader.hpp"
@@ -73,6 +74,27 @@ std::string gps_now_spec() {
     const std::int64_t gps_ns =
         core::gps_from_unix_ns(unix_ns / 1'000'000 * 1'000'000).time_since_epoch().count();
     return fmt::format("gps:{}.{:09d}", gps_ns / 1'000'000'000, gps_ns % 1'000'000'000);
+}
+
+std::int64_t host_gps_offset_ns() {
+    const std::int64_t mono = hostclock::monotonic_ns();
+    const std::int64_t gps =
+        core::gps_from_unix_ns(hostclock::realtime_ns()).time_since_epoch().count();
+    return mono - gps;
+}
+
+core::GpsTime host_gps_time_ahead(core::Nanos ahead) {
+    const std::int64_t gps = hostclock::monotonic_ns() - host_gps_offset_ns() + ahead.count();
+    return core::GpsTime(core::Nanos(gps / 1'000'000 * 1'000'000));
+}
+
+void move_start(Job& job, core::GpsTime start) {
+    const core::Nanos shift = start - job.options.start;
+    job.options.start = start;
+    if (job.trajectory.is_fixed()) return;
+    std::vector<core::StampedPose> samples = job.trajectory.samples();
+    for (auto& s : samples) s.t += shift;
+    job.trajectory = core::Trajectory(std::move(samples), job.trajectory.interpolation());
 }
 
 bool is_demo_trajectory(const std::string& spec) {

@@ -90,4 +90,17 @@ render::EmbreeOptions embree_options(const std::string& quality);
 // What the job's packets describe besides the returns (the job must outlive the packetizer).
 wire::WireContext wire_context(const Job& job);
 
+// The host's GPS time (CLOCK_REALTIME through the leap-second table) as an offset from
+// CLOCK_MONOTONIC: monotonic = GPS + offset (docs/time.md §1).
+std::int64_t host_gps_offset_ns();
+// How far ahead of the host's clock a job started "now" fires its first pulse: loading is done,
+// the renderers fill their lead meanwhile.
+inline constexpr core::Nanos kHostClockStartLead{500'000'000};
+// The host's GPS time `ahead` from now, whole ms.
+core::GpsTime host_gps_time_ahead(core::Nanos ahead);
+// Moves a job's first pulse to `start`, and a trajectory generated from its old start with it
+// (demo trajectories; a static pose has no times): a job that starts "now" is moved, once it is
+// loaded, to a moment its packets can keep on the host's CLOCK_REALTIME (docs/time.md §1).
+void move_start(Job& job, core::GpsTime start);
+
 }  // namespace mirage::hil

@@ -62,13 +62,6 @@ bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>&
     return !stop.load() && poses.newest().has_value();
 }
 
-std::int64_t host_gps_offset_ns() {
-    const std::int64_t mono = hostclock::monotonic_ns();
-    const std::int64_t gps =
-        core::gps_from_unix_ns(hostclock::realtime_ns()).time_since_epoch().count();
-    return mono - gps;
-}
-
 std::int64_t host_pulse0_ns() {
     const std::int64_t gps = hostclock::monotonic_ns() - host_gps_offset_ns();
     return (gps / 1'000'000 + 20) * 1'000'000;

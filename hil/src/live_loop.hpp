@@ -60,9 +60,8 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
 // True once the pose buffer holds a pose; false after `seconds` or when `stop` is set.
 bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>& stop,
                       double seconds);
-// The host's GPS time (CLOCK_REALTIME through the leap-second table) as a CLOCK_MONOTONIC
-// offset, and a pulse 0 20 ms ahead on it (whole ms): the sensor clock before the INS has one.
-std::int64_t host_gps_offset_ns();
+// A pulse 0 20 ms ahead on the host's GPS time (whole ms): the sensor clock before the INS has
+// one.
 std::int64_t host_pulse0_ns();
 // Pulse 0's INS time (ns): a serial line may hold a backlog of old messages, so 250 ms pass for
 // the INS-to-host offset (lower envelope of arrival − INS time) to settle on messages arriving

@@ -27,6 +27,7 @@ std::unique_ptr<RigSensor> plan_sensor(const rig::SensorEntry& e, const JobInput
     if (!plan.sensors.empty()) r->job.renderer = plan.sensors.front()->job.renderer;  // one BVH
     r->wire.return_mode = e.return_mode;
     r->wire.profile = e.profile;
+    r->wire.timestamp_mode = e.timestamp_mode;
     wire::prepare_sensor(r->job.sensor, r->wire, e.rpm);
     set_render_lead(r->job, output::kEmulateRenderLead);
     const bool ouster = r->job.sensor.wire.family == sensor::WireFamily::Ouster;
@@ -86,8 +87,10 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
     // One start for every sensor: now for demo trajectories and static poses (and when asked);
     // a trajectory file's own start otherwise.
     if (common.start == "now" ||
-        (common.start.empty() && (is_static || is_demo_trajectory(common.trajectory))))
+        (common.start.empty() && (is_static || is_demo_trajectory(common.trajectory)))) {
         common.start = gps_now_spec();
+        plan.start_now = !live;
+    }
     double scene_s = 0;
     const auto scene = load_scene_timed(config.scene, scene_s);
     for (std::size_t i = 0; i < config.sensors.size(); ++i) {
@@ -161,7 +164,8 @@ std::string describe(const RigPlan& plan) {
             "  {}: {} {} ({}), {:.1f} data packets/s; lever arm [{}, {}, {}] m, boresight [{}, "
             "{}, {}] deg\n    -> {}{}{}{}{}\n",
             e.name, r->vendor, r->job.sensor.name,
-            r->vendor == "ouster" ? "profile " + e.profile : "return mode " + e.return_mode,
+            r->vendor == "ouster" ? "profile " + e.profile + ", " + e.timestamp_mode
+                                  : "return mode " + e.return_mode,
             r->packets_per_second, e.lever_arm[0], e.lever_arm[1], e.lever_arm[2], e.boresight[0],
             e.boresight[1], e.boresight[2],
             e.to.empty() ? "(no network)" : fmt::format("{}: data {}", e.to, r->ports.data),

@@ -26,6 +26,7 @@ struct RigSensor {
 struct RigPlan {
     rig::RigConfig config;
     bool forever = false;             // a static pose without a duration: until Ctrl-C
+    bool start_now = false;           // first pulse "now": on the host's clock (docs/time.md)
     std::string live_duration;        // a live source: seconds to run (empty: until Ctrl-C)
     core::Nanos live_duration_ns{0};  // the same, parsed (0: until Ctrl-C)
     std::vector<std::unique_ptr<RigSensor>> sensors;

@@ -344,9 +344,17 @@ control::RigStatus RigView::status() const {
 // A trajectory: every output's first pulse at the same host instant (one sensor clock).
 void run_rig(RigPlan& plan, const RigRunOptions& o) {
     const auto sender = make_sender(o.rt_priority);
+    // Started "now": the first pulse on the host's GPS time ahead of the schedule, so every
+    // packet carries CLOCK_REALTIME's time (docs/time.md §1); else the file's time, replayed.
+    if (plan.start_now) {
+        const core::GpsTime start = host_gps_time_ahead(kRigStartLead);
+        for (auto& s : plan.sensors) move_start(s->job, start);
+    }
     auto runs = open_runs(plan, o, sender);
     const core::GpsTime t0 = plan.sensors.front()->job.options.start;
-    const std::int64_t anchor = hostclock::monotonic_ns() + kRigStartLead.count();
+    const std::int64_t anchor = plan.start_now
+                                    ? t0.time_since_epoch().count() + host_gps_offset_ns()
+                                    : hostclock::monotonic_ns() + kRigStartLead.count();
     for (auto& r : runs) r->out->anchor(t0, anchor);
     std::fprintf(stderr, "%s", describe(plan).c_str());
     Published pub(o.view, runs, nullptr, nullptr);

@@ -179,7 +179,7 @@ class RigReader : private scene::YamlReader {
         require_map(n, path);
         check_keys(n, path,
                    {"name", "sensor", "mount", "return_mode", "rpm", "profile", "to", "source_port",
-                    "ports", "pcap", "faults"});
+                    "ports", "pcap", "faults", "timestamp_mode"});
         SensorEntry s;
         s.line = n.Mark().line + 1;
         if (!n["name"]) fail(sub(path, "name"), "missing", n);
@@ -200,6 +200,16 @@ class RigReader : private scene::YamlReader {
         }
         if (n["rpm"]) s.rpm = number_in(n["rpm"], sub(path, "rpm"), 60, 3000);
         if (n["profile"]) s.profile = string(n["profile"], sub(path, "profile"));
+        if (n["timestamp_mode"]) {
+            s.timestamp_mode = string(n["timestamp_mode"], sub(path, "timestamp_mode"));
+            if (s.timestamp_mode != "TIME_FROM_INTERNAL_OSC" &&
+                s.timestamp_mode != "TIME_FROM_SYNC_PULSE_IN" &&
+                s.timestamp_mode != "TIME_FROM_PTP_1588")
+                fail(sub(path, "timestamp_mode"),
+                     "expected TIME_FROM_INTERNAL_OSC, TIME_FROM_SYNC_PULSE_IN or "
+                     "TIME_FROM_PTP_1588",
+                     n["timestamp_mode"]);
+        }
         if (n["to"]) s.to = string(n["to"], sub(path, "to"));
         if (n["source_port"]) s.source_port = port(n["source_port"], sub(path, "source_port"));
         if (n["ports"]) ports(n["ports"], sub(path, "ports"), s.ports);

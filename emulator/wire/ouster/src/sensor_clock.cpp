@@ -15,6 +15,13 @@ std::string to_string(TimestampMode m) {
     return "TIME_FROM_INTERNAL_OSC";
 }
 
+std::optional<TimestampMode> parse_timestamp_mode(const std::string& name) {
+    for (TimestampMode m :
+         {TimestampMode::InternalOsc, TimestampMode::SyncPulseIn, TimestampMode::Ptp1588})
+        if (name == to_string(m)) return m;
+    return std::nullopt;
+}
+
 std::uint64_t SensorClock::ns(core::GpsTime t) const {
     switch (mode) {
         case TimestampMode::InternalOsc: {

@@ -14,6 +14,7 @@
 #include "mirage/ouster/imu.hpp"
 #include "mirage/ouster/metadata.hpp"
 #include "mirage/ouster/packetizer.hpp"
+#include "mirage/ouster/sensor_clock.hpp"
 #include "mirage/sensor/spinning.hpp"
 #include "mirage/velodyne/calibration.hpp"
 #include "mirage/velodyne/model.hpp"
@@ -96,6 +97,16 @@ void prepare_sensor(sensor::SensorModel& sensor, const WireOptions& options, dou
         // Last and dual need every echo of a pulse; the packetizer picks from them.
         if (mode != velodyne::ReturnMode::Strongest)
             sensor.receiver.max_returns = std::max(sensor.receiver.max_returns, 8);
+        if (options.timestamp_mode != "TIME_FROM_INTERNAL_OSC")
+            throw ConfigError(fmt::format(
+                "emulate: --timestamp-mode {}: an Ouster setting (Velodyne packets carry µs past "
+                "the UTC hour)",
+                options.timestamp_mode));
+    } else if (!ouster::parse_timestamp_mode(options.timestamp_mode)) {
+        throw ConfigError(
+            fmt::format("emulate: --timestamp-mode {}: expected TIME_FROM_INTERNAL_OSC, "
+                        "TIME_FROM_SYNC_PULSE_IN or TIME_FROM_PTP_1588",
+                        options.timestamp_mode));
     } else if (options.return_mode != "strongest") {
         throw ConfigError(fmt::format(
             "emulate: --return-mode {}: the Ouster profiles emulated here are single-return "
@@ -140,6 +151,10 @@ WireSetup make_wire(const WireContext& ctx, const WireOptions& options, wire::Pa
     const ouster::Descriptor d = ouster::make_descriptor(sensor.wire.model, profile);
     ouster::PacketizerConfig cfg;
     cfg.start = ctx.start;
+    const auto clock_mode = ouster::parse_timestamp_mode(options.timestamp_mode);
+    if (!clock_mode)
+        throw ConfigError("emulate: --timestamp-mode " + options.timestamp_mode + ": unknown");
+    cfg.clock.mode = *clock_mode;
     const core::Trajectory* traj = &ctx.trajectory;
     const core::Mount mount = ctx.mount;
     if (options.imu_packets)
@@ -150,6 +165,7 @@ WireSetup make_wire(const WireContext& ctx, const WireOptions& options, wire::Pa
     w.packets_per_second = double(d.mode.hz) * double(d.packets_per_frame());
     w.vendor = "ouster";
     ouster::MetadataOptions mo;
+    mo.timestamp_mode = *clock_mode;
     if (!udp_host.empty()) mo.udp_dest = udp_host;
     w.side_file = ouster::metadata_json(d, mo);
     w.side_file_kind = "metadata";

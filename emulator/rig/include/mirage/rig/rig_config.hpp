@@ -36,8 +36,9 @@ struct SensorEntry {
     std::string return_mode = "strongest";     // Velodyne: strongest, last, dual
     double rpm = 0;                            // Velodyne; 0: the model's default
     std::string profile = "LEGACY";            // Ouster UDP profile
-    std::string to;                            // destination IPv4 host; empty: none
-    std::uint16_t source_port = 0;             // 0: any
+    std::string timestamp_mode = "TIME_FROM_INTERNAL_OSC";  // Ouster (docs/time.md §3)
+    std::string to;                                         // destination IPv4 host; empty: none
+    std::uint16_t source_port = 0;                          // 0: any
     Ports ports;
     std::string pcap;              // capture of the sensor's packets; empty: none
     std::optional<Faults> faults;  // empty: the rig's `faults`

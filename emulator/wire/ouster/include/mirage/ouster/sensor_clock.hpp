@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "mirage/core/time.hpp"
@@ -14,6 +15,8 @@ enum class TimestampMode : std::uint8_t {
     Ptp1588,      // "TIME_FROM_PTP_1588": TAI ns since 1970 (GPS + 19 s)
 };
 std::string to_string(TimestampMode m);
+// The device's names (TIME_FROM_INTERNAL_OSC, …); nullopt for anything else.
+std::optional<TimestampMode> parse_timestamp_mode(const std::string& name);
 
 // How the device stamps a GPS instant. Times before power-on read 0 (the counter starts there).
 struct SensorClock {

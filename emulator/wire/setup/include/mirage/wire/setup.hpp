@@ -19,6 +19,10 @@ struct WireOptions {
     std::string profile = "LEGACY";  // Ouster: LEGACY | RNG19_RFL8_SIG16_NIR16 | RNG15_RFL8_NIR8
     bool position_packets = true;    // Velodyne position stream (off when its port is 0)
     bool imu_packets = true;         // Ouster IMU stream (off when its port is 0)
+    // Ouster config_params.timestamp_mode: TIME_FROM_INTERNAL_OSC (ns counted from the GPS
+    // epoch), TIME_FROM_SYNC_PULSE_IN (UTC ns since 1970) or TIME_FROM_PTP_1588 (TAI ns since
+    // 1970), as the device stamps columns and IMU readings (docs/time.md §3).
+    std::string timestamp_mode = "TIME_FROM_INTERNAL_OSC";
 };
 
 // What the packets describe besides the returns: the sensor's path (Velodyne $GPRMC through the
