@@ -78,6 +78,13 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
     check_run_settings(config, duration, plan);
     JobInputs common;
     common.trajectory = live ? std::string("static:0,0,0") : config.trajectory;
+    if (!config.nav_log.empty()) {  // re-simulated from the log, on its own times
+        common.nav_log = config.nav_log;
+        common.nav_protocol = config.nav_log_protocol;
+        if (!config.nav_origin.empty())
+            common.nav_origin = fmt::format("{},{},{}", config.nav_origin[0], config.nav_origin[1],
+                                            config.nav_origin[2]);
+    }
     common.duration = live ? std::string("1") : duration;
     if (!live) common.start = config.start;
     common.threads = config.threads;
@@ -146,7 +153,9 @@ std::string describe(const RigPlan& plan) {
     const Job& first = plan.sensors.front()->job;
     const std::string nav =
         c.nav.empty()
-            ? fmt::format("trajectory {}, first pulse gps:{:.3f}", c.trajectory,
+            ? fmt::format("{} {}, first pulse gps:{:.3f}",
+                          c.nav_log.empty() ? "trajectory" : c.nav_log_protocol + " log",
+                          c.nav_log.empty() ? c.trajectory : c.nav_log,
                           double(first.options.start.time_since_epoch().count()) / 1e9)
             : fmt::format("navigation {} (max extrapolation {} ms)", c.nav, c.max_extrapolation_ms);
     const bool until_stopped = plan.forever || (!c.nav.empty() && plan.live_duration.empty());

@@ -219,5 +219,48 @@ TEST(Rig, errors_name_the_file_the_sensor_and_the_line_and_exit_2) {
     EXPECT_NE(m.output.find("cannot open"), std::string::npos) << m.output;
 }
 
+// A recorded navigation log as the rig's navigation (re-simulated, on the log's own times):
+// `mirage live --nav-record` keeps what fake-ins sent over UDP; the rig then replays it and every
+// point, placed with the truth at its time, lies on the yard.
+TEST(Rig, a_recorded_nav_log_drives_the_rig) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    write_trajectory(tmp.file("circle.csv"));
+    const core::Trajectory truth = core::load_trajectory_csv(
+        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
+        core::Interpolation::Cubic);
+    BackgroundMirage live = start_mirage(
+        "live --scene " + tmp.file("yard.yaml") +
+        " --sensor vlp16 --position-port 0 --no-status --duration 3 --first-nav-timeout 15"
+        " --nav nmea:udp://127.0.0.1:0 --nav-record " +
+        tmp.file("drive.nmea"));
+    std::smatch m;
+    const std::string l = live.wait_for(std::regex("udp port [0-9]+"));
+    ASSERT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << live.output;
+    BackgroundMirage fake = start_mirage(
+        "fake-ins --scene " + tmp.file("yard.yaml") + " --trajectory " + tmp.file("circle.csv") +
+        " --protocol nmea --duration 5 --to udp://127.0.0.1:" + m[1].str());
+    const core::GpsTime t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
+    ASSERT_EQ(live.finish(), 0) << live.output;
+    (void)fake.finish();
+    Collector rx;
+    {
+        std::ofstream(tmp.file("rig.yaml"))
+            << "scene: yard.yaml\nnavigation: {nav_log: drive.nmea, protocol: nmea}\n"
+               "duration: 1.5\nsensors:\n  - {name: roof, sensor: vlp16, to: 127.0.0.1, ports: "
+               "{data: "
+            << rx.port() << "}}\n";
+    }
+    const RunResult r = run_mirage("rig " + tmp.file("rig.yaml") + " --no-status");
+    rx.stop();
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const Stats st = check_points(rx.packets(), truth, t0);
+    std::printf("[ rig nav log ] %zu packets, %zu points, median %.4f m, p99 %.4f m\n%s",
+                st.packets, st.points, st.median, st.p99, r.output.c_str());
+    EXPECT_GT(st.packets, 1000u);  // 1.5 s at 753.5 packets/s
+    EXPECT_LT(st.median, 0.05);
+    EXPECT_NE(r.output.find("nmea log"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace mirage::test

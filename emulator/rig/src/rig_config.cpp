@@ -56,9 +56,29 @@ class RigReader : private scene::YamlReader {
         if (!n) fail(p, "missing (navigation: {trajectory: …} or {nav: <URI>})", n);
         require_map(n, p);
         check_keys(n, p,
-                   {"trajectory", "nav", "origin", "max_extrapolation_ms", "first_nav_timeout"});
-        if (!n["trajectory"] == !n["nav"])
-            fail(p, "give one of trajectory (a path) or nav (a live source's URI)", n);
+                   {"trajectory", "nav", "nav_log", "protocol", "origin", "max_extrapolation_ms",
+                    "first_nav_timeout"});
+        if (int(bool(n["trajectory"])) + int(bool(n["nav"])) + int(bool(n["nav_log"])) != 1)
+            fail(p,
+                 "give one of trajectory (a path), nav_log (a recorded log) or nav (a live "
+                 "source's URI)",
+                 n);
+        if (n["protocol"] && !n["nav_log"]) fail(sub(p, "protocol"), "applies to nav_log", n);
+        if (n["nav_log"]) {
+            for (const char* k : {"max_extrapolation_ms", "first_nav_timeout"})
+                if (n[k]) fail(sub(p, k), "applies to nav only", n[k]);
+            c.nav_log = file_path(string(n["nav_log"], sub(p, "nav_log")));
+            if (n["protocol"]) {
+                c.nav_log_protocol = string(n["protocol"], sub(p, "protocol"));
+                const std::string& q = c.nav_log_protocol;
+                if (q != "nmea" && q != "novatel" && q != "ncom" && q != "oxts-can" &&
+                    q != "sbg-can")
+                    fail(sub(p, "protocol"), "expected nmea, novatel, ncom, oxts-can or sbg-can",
+                         n["protocol"]);
+            }
+            origin(n, c);
+            return;
+        }
         if (n["trajectory"]) {
             for (const char* k : {"origin", "max_extrapolation_ms", "first_nav_timeout"})
                 if (n[k]) fail(sub(p, k), "applies to nav only", n[k]);
@@ -67,11 +87,7 @@ class RigReader : private scene::YamlReader {
             return;
         }
         c.nav = string(n["nav"], sub(p, "nav"));
-        if (n["origin"]) {
-            c.nav_origin = numbers(n["origin"], sub(p, "origin"), 3);
-            if (std::abs(c.nav_origin[0]) > 90 || std::abs(c.nav_origin[1]) > 180)
-                fail(sub(p, "origin"), "latitude within ±90°, longitude within ±180°", n["origin"]);
-        }
+        origin(n, c);
         if (n["max_extrapolation_ms"])
             c.max_extrapolation_ms =
                 number_in(n["max_extrapolation_ms"], sub(p, "max_extrapolation_ms"), 0, 10'000);
@@ -163,6 +179,14 @@ class RigReader : private scene::YamlReader {
             }
             c.control.scenarios.push_back(x);
         }
+    }
+
+    void origin(const YAML::Node& n, RigConfig& c) const {
+        const std::string p = "navigation.origin";
+        if (!n["origin"]) return;
+        c.nav_origin = numbers(n["origin"], p, 3);
+        if (std::abs(c.nav_origin[0]) > 90 || std::abs(c.nav_origin[1]) > 180)
+            fail(p, "latitude within ±90°, longitude within ±180°", n["origin"]);
     }
 
     void sensors(const YAML::Node& n, const YAML::Node& root, RigConfig& c) {

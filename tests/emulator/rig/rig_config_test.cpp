@@ -73,6 +73,17 @@ TEST(RigConfig, a_live_navigation_source_takes_mirage_live_settings) {
     EXPECT_EQ(c.first_nav_timeout_s, 30);
 }
 
+TEST(RigConfig, a_navigation_log_is_a_trajectory_on_its_own_times) {
+    std::string text = kGood;
+    text.replace(text.find("  trajectory: static:0,0,1.8,0,0,30"), 35,
+                 "  nav_log: logs/drive.ncom\n  protocol: ncom\n  origin: [48.1, 11.5, 520]");
+    const RigConfig c = load_rig("/bench/car.yaml", &text);
+    EXPECT_EQ(c.nav_log, "/bench/logs/drive.ncom");
+    EXPECT_EQ(c.nav_log_protocol, "ncom");
+    EXPECT_EQ(c.nav_origin.size(), 3u);
+    EXPECT_TRUE(c.trajectory.empty() && c.nav.empty());
+}
+
 TEST(RigConfig, a_control_plane_scenarios_and_default_faults) {
     std::string text = kGood;
     text.replace(text.find("threads: 2"), 10,
@@ -153,6 +164,10 @@ TEST(RigConfig, mistakes_name_the_key_path_and_line) {
     expect_refused("  trajectory: static:0,0,1.8,0,0,30", "  nav: x\n  origin: [91, 2, 3]",
                    {"navigation.origin", "latitude"});
     expect_refused("sensors:", "sensor_list:", {"sensor_list: unknown key"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30", "  nav_log: a.nmea\n  protocol: gsof",
+                   {"navigation.protocol", "nmea, novatel"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30", "  nav_log: a.nmea\n  trajectory: b.csv",
+                   {"navigation", "nav_log"});
     expect_refused("threads: 2", "threads: 2\ncontrol: {watchdog_ms: 50}",
                    {"control.watchdog_ms", "100..60000", "(line 6)"});
     expect_refused("threads: 2", "threads: 2\ncontrol: {parity: mark}", {"control.parity"});

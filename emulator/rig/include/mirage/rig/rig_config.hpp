@@ -71,9 +71,12 @@ struct RigConfig {
     std::string file;        // as given
     std::string scene;       // demo or a scene file (relative paths resolved)
     std::string trajectory;  // navigation: trajectory CSV, demo-*, static:… (or empty)
+    // …or a recorded navigation log re-simulated as the trajectory (as `emulate --nav-log`),
+    std::string nav_log;
+    std::string nav_log_protocol = "nmea";  // nmea, novatel, ncom, oxts-can, sbg-can
     // …or live: a `--nav` URI (INS or DIS) with its settings as `mirage live` takes them.
     std::string nav;
-    std::vector<double> nav_origin;    // lat, lon, h: tangent-plane frame; empty: the scene's
+    std::vector<double> nav_origin;  // nav, nav_log: lat, lon, h tangent plane; empty: the scene's
     double max_extrapolation_ms = 50;  // beyond the newest sample: stale
     // > 0: send nothing until the first full pose and fail without one by then; 0: stream
     // without returns on the host's clock until it comes (docs/rig.md §2).
