@@ -183,7 +183,7 @@ std::string describe(const RigPlan& plan) {
                 : fmt::format(", position {}", r->ports.position),
             e.to.empty() || r->ports.imu == 0 ? "" : fmt::format(", imu {}", r->ports.imu),
             e.source_port ? fmt::format(", from port {}", e.source_port) : "",
-            e.pcap.empty() ? "" : ", pcap " + e.pcap);
+            (e.pcap.empty() ? "" : ", pcap " + e.pcap) + (e.las.empty() ? "" : ", las " + e.las));
         const std::string f = faults_text(e.faults ? *e.faults : c.faults);
         if (!f.empty()) s += "    faults: " + f + "\n";
     }

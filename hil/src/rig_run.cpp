@@ -26,6 +26,22 @@ constexpr core::Nanos kRigStartLead{500'000'000};
 // Live: packets leave this long after their firing time (`mirage live --pipeline-delay-us`).
 constexpr core::Nanos kLivePipelineDelay{250'000};
 
+// The renderer's points into the sensor's LAS file (before any fault), then on to `next`.
+class LasTee final : public wire::Packetizer {
+  public:
+    LasTee(las::LasWriter& w, wire::Packetizer& next) : w_(w), next_(next) {}
+    void add(std::span<const core::PointRecord> points) override {
+        w_.write(points);
+        next_.add(points);
+    }
+    void advance_to(std::uint64_t next_pulse) override { next_.advance_to(next_pulse); }
+    void finish() override { next_.finish(); }
+
+  private:
+    las::LasWriter& w_;
+    wire::Packetizer& next_;
+};
+
 // A packet on its way out: a stopped sensor withholds it, a drop burst takes it, else it goes
 // to the live session (which times INS messages to it) or straight to the output.
 void send(RigRun& r, const wire::PacketView& p) {
@@ -59,6 +75,9 @@ void rewire(RigRun& r, std::uint32_t index, bool gps_locked = true) {
         ctx, s.wire, [raw](const wire::PacketView& p) { send(*raw, p); }, s.entry.to);
     r.faulty = std::make_unique<control::FaultPacketizer>(*r.wire.packetizer, *r.cell,
                                                           s.job.options.seed, index);
+    r.las_tee.reset();
+    if (r.las) r.las_tee = std::make_unique<LasTee>(*r.las, *r.faulty);
+    r.input = r.las_tee ? r.las_tee.get() : static_cast<wire::Packetizer*>(r.faulty.get());
 }
 
 std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
@@ -77,6 +96,8 @@ std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
     r->own_cell.store(defaults);
     r->cell = control ? &control->faults(index) : &r->own_cell;
     r->dropper = std::make_unique<control::PacketDropper>(s.job.options.seed, index);
+    if (!s.entry.las.empty())
+        r->las = std::make_unique<las::LasWriter>(s.entry.las, s.job.scene->georef);
     rewire(*r, index);
     return r;
 }
@@ -180,7 +201,10 @@ void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
             pthread_setname_np(pthread_self(), "mirage-rig");
             try {
                 body(*r);
-                if (!before_first_pose) r->totals = r->out->finish();
+                if (!before_first_pose) {
+                    r->totals = r->out->finish();
+                    if (r->las) r->las->close();  // throws naming the file if writing failed
+                }
             } catch (const std::exception& e) {
                 r->error = e.what();
                 r->failed = true;
@@ -255,15 +279,18 @@ bool stream_rig_before_first_pose(RigPlan& plan, const RigRunOptions& o,
     run_all(
         runs, o,
         [&stop](RigRun& r) {
-            r.session->run(*r.faulty,
-                           pulses_per_packet(r.sensor->job, r.sensor->packets_per_second), stop);
+            r.session->run(*r.input, pulses_per_packet(r.sensor->job, r.sensor->packets_per_second),
+                           stop);
             r.wire.packetizer->finish();
         },
         true);
     const core::Nanos elapsed(hostclock::monotonic_ns() - off - h0);
     if (lo.duration.count() > 0) lo.duration = std::max(core::Nanos(1), lo.duration - elapsed);
     if (stop.load() || !poses.newest()) {  // stopped, or the duration passed first
-        for (auto& r : runs) r->totals = r->out->finish();
+        for (auto& r : runs) {
+            r->totals = r->out->finish();
+            if (r->las) r->las->close();
+        }
         print_summary(runs, double(elapsed.count()) / 1e9, hostclock::process_cpu_seconds() - cpu0,
                       stop.load());
         return false;
@@ -360,7 +387,7 @@ void run_rig(RigPlan& plan, const RigRunOptions& o) {
     Published pub(o.view, runs, nullptr, nullptr);
     const std::atomic<bool>& stop = *o.stop;
     run_all(runs, o, [&stop](RigRun& r) {
-        output::PacketizerSink sink(*r.faulty);
+        output::PacketizerSink sink(*r.input);
         r.stats = render::render(r.sensor->job.setup(), sink, {}, &stop);
     });
 }
@@ -411,7 +438,7 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
     run_all(runs, o, [&stop](RigRun& r) {
         const Job& job = r.sensor->job;
         r.live =
-            r.session->run(*r.faulty, pulses_per_packet(job, r.sensor->packets_per_second), stop);
+            r.session->run(*r.input, pulses_per_packet(job, r.sensor->packets_per_second), stop);
         r.wire.packetizer->finish();
     });
     nav.stop();

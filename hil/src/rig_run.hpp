@@ -13,6 +13,7 @@
 #include "live_loop.hpp"
 #include "mirage/control/control_model.hpp"
 #include "mirage/control/sensor_faults.hpp"
+#include "mirage/las/las_writer.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "rig_plan.hpp"
 
@@ -26,7 +27,10 @@ struct RigRun {
     const control::FaultCell* cell = nullptr;
     control::FaultCell own_cell;  // the rig file's faults when no control plane holds them
     std::unique_ptr<control::PacketDropper> dropper;
+    std::unique_ptr<las::LasWriter> las;               // the sensor's `las` file, if any
+    std::unique_ptr<wire::Packetizer> las_tee;         // writes it, in front of faulty
     std::unique_ptr<control::FaultPacketizer> faulty;  // in front of wire.packetizer
+    wire::Packetizer* input = nullptr;                 // where the renderer's points go
     std::atomic<std::uint64_t> packets{0}, dropped{0}, withheld{0};
     std::atomic<std::int64_t> newest_ns{0};  // sensor time of the newest packet
     std::atomic<bool> running{false}, failed{false};

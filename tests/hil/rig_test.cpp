@@ -13,6 +13,7 @@
 #include "cli_run.hpp"
 #include "live_yard.hpp"
 #include "mirage/core/pose.hpp"
+#include "mirage/las/las_reader.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::test {
@@ -75,11 +76,26 @@ TEST(Rig, two_mounted_sensors_stream_on_one_clock_onto_the_yard) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     Collector left, rear;
-    { std::ofstream(tmp.file("rig.yaml")) << rig_text(left.port(), rear.port()); }
+    {
+        std::string text = rig_text(left.port(), rear.port());
+        text.insert(text.find("  - name: rear"), "    las: left.las\n");  // its points too
+        std::ofstream(tmp.file("rig.yaml")) << text;
+    }
     const RunResult r = run_mirage("rig " + tmp.file("rig.yaml") + " --no-status");
     left.stop();
     rear.stop();
     ASSERT_EQ(r.exit_code, 0) << r.output;
+    // The left sensor's LAS: every point it sent, georeferenced, on the yard.
+    const las::LasFile lf = las::LasFile::read(tmp.file("left.las"));
+    std::vector<double> las_err;
+    for (const auto& p : lf.points())
+        las_err.push_back(distance_to_yard({p.x - 500000, p.y - 5000000, p.z}));
+    std::sort(las_err.begin(), las_err.end());
+    ASSERT_FALSE(las_err.empty());
+    std::printf("[ rig las ] left.las: %zu points, median %.4f m, p99 %.4f m off the yard\n",
+                las_err.size(), las_err[las_err.size() / 2], las_err[las_err.size() * 99 / 100]);
+    EXPECT_LT(las_err[las_err.size() / 2], 0.02);
+    EXPECT_LT(las_err[las_err.size() * 99 / 100], 0.1);
     const core::Pose platform{{2, -3, 1.8}, core::quaternion_from_rpy(0, 0, 30 * kDeg)};
     const SensorCheck l = check(left.packets(), platform * mount({1, 0.5, 0.3}, 0, 0, 90));
     const SensorCheck b = check(rear.packets(), platform * mount({-1, 0, 0.5}, 0, 10, 180));
@@ -97,6 +113,7 @@ TEST(Rig, two_mounted_sensors_stream_on_one_clock_onto_the_yard) {
         EXPECT_LT(c->p99, 0.1);
     }
     EXPECT_EQ(l.first_timestamp_us, b.first_timestamp_us);  // one sensor clock
+    EXPECT_GE(las_err.size(), l.points);  // a packet's slots hold the strongest of a pulse's
     EXPECT_NE(r.output.find("left: 7"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("failed sends 0"), std::string::npos) << r.output;
     // Swapping the mounts puts the points off the walls: the mounts are each sensor's own.

@@ -203,7 +203,7 @@ class RigReader : private scene::YamlReader {
         require_map(n, path);
         check_keys(n, path,
                    {"name", "sensor", "mount", "return_mode", "rpm", "profile", "to", "source_port",
-                    "ports", "pcap", "faults", "timestamp_mode"});
+                    "ports", "pcap", "las", "faults", "timestamp_mode"});
         SensorEntry s;
         s.line = n.Mark().line + 1;
         if (!n["name"]) fail(sub(path, "name"), "missing", n);
@@ -238,9 +238,10 @@ class RigReader : private scene::YamlReader {
         if (n["source_port"]) s.source_port = port(n["source_port"], sub(path, "source_port"));
         if (n["ports"]) ports(n["ports"], sub(path, "ports"), s.ports);
         if (n["pcap"]) s.pcap = file_path(string(n["pcap"], sub(path, "pcap")));
+        if (n["las"]) s.las = file_path(string(n["las"], sub(path, "las")));
         if (n["faults"]) s.faults = faults(n["faults"], sub(path, "faults"), live_);
-        if (s.to.empty() && s.pcap.empty())
-            fail(path, "sensor '" + s.name + "' has nowhere to go: give `to` and/or `pcap`", n);
+        if (s.to.empty() && s.pcap.empty() && s.las.empty())
+            fail(path, "sensor '" + s.name + "' has nowhere to go: give `to`, `pcap` or `las`", n);
         if (!s.to.empty() && s.ports.data == 0)
             fail(sub(path, "ports.data"), "missing (each sensor of a rig names its data port)", n);
         return s;
@@ -308,6 +309,7 @@ class RigReader : private scene::YamlReader {
             if (s.source_port != 0)
                 claim("source port " + std::to_string(s.source_port), "source_port");
             if (!s.pcap.empty()) claim("pcap file " + s.pcap, "pcap");
+            if (!s.las.empty()) claim("LAS file " + s.las, "las");
         }
     }
 

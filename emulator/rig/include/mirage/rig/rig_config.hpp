@@ -40,7 +40,8 @@ struct SensorEntry {
     std::string to;                                         // destination IPv4 host; empty: none
     std::uint16_t source_port = 0;                          // 0: any
     Ports ports;
-    std::string pcap;              // capture of the sensor's packets; empty: none
+    std::string pcap;  // capture of the sensor's packets; empty: none
+    std::string las;   // LAS 1.4 of the sensor's rendered points (before faults); empty: none
     std::optional<Faults> faults;  // empty: the rig's `faults`
     int line = 0;                  // where the entry starts in the file (for messages)
 };
