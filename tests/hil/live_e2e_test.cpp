@@ -22,13 +22,6 @@
 namespace mirage::test {
 namespace {
 
-core::GpsTime parse_t0(const std::string& line) {
-    std::smatch m;
-    const std::regex re("t0 gps:([0-9]+\\.[0-9]+)");
-    if (!std::regex_search(line, m, re)) return {};
-    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
-}
-
 // The clean runs allow 150 ms of extrapolation, so a scheduling hiccup of a loaded CI machine
 // does not read as stale navigation; the fault run keeps the default 50 ms.
 const char* kLiveCommon =
@@ -56,8 +49,7 @@ std::string run_case(const Case& c) {
     const std::string scene = tmp.file("yard.yaml"), traj = tmp.file("circle.csv");
     { std::ofstream(scene) << kScene; }
     write_trajectory(traj);
-    const core::Trajectory truth = core::load_trajectory_csv(
-        traj, core::Georef::projected(32632, {500000, 5000000, 0}), core::Interpolation::Cubic);
+    const core::Trajectory truth = circle_truth(traj);
     Collector rx;
     const std::string link = tmp.file("ins");
     auto subst = [&](std::string s) {

@@ -54,12 +54,6 @@ class NoFixTalker {
     std::thread thread_;
 };
 
-core::GpsTime parse_t0(const std::string& line) {
-    std::smatch m;
-    if (!std::regex_search(line, m, std::regex("t0 gps:([0-9]+\\.[0-9]+)"))) return {};
-    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
-}
-
 int udp_port_in(BackgroundMirage& m) {
     std::smatch g;
     const std::string l = m.wait_for(std::regex("udp port [0-9]+"));
@@ -103,11 +97,11 @@ TEST(NoFix, an_ins_without_a_fix_streams_packets_without_returns) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     Collector rx, pos;
-    BackgroundMirage live = start_mirage(
-        "live --scene " + tmp.file("yard.yaml") +
-        " --sensor vlp16 --no-status --duration 3 --nav-origin 45,9,100"
-        " --nav nmea:udp://127.0.0.1:0 --to 127.0.0.1 --data-port " +
-        std::to_string(rx.port()) + " --position-port " + std::to_string(pos.port()));
+    BackgroundMirage live =
+        start_mirage("live --scene " + tmp.file("yard.yaml") +
+                     " --sensor vlp16 --no-status --duration 3 --nav-origin 45,9,100"
+                     " --nav nmea:udp://127.0.0.1:0 --to 127.0.0.1 --data-port " +
+                     std::to_string(rx.port()) + " --position-port " + std::to_string(pos.port()));
     const int port = udp_port_in(live);
     ASSERT_GT(port, 0) << live.output;
     int sent = 0;
@@ -156,9 +150,7 @@ TEST(NoFix, a_late_fix_starts_the_returns_on_the_ins_clock) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     write_trajectory(tmp.file("circle.csv"));
-    const core::Trajectory truth = core::load_trajectory_csv(
-        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
-        core::Interpolation::Cubic);
+    const core::Trajectory truth = circle_truth(tmp.file("circle.csv"));
     Collector rx, pos;
     {
         std::ofstream(tmp.file("rig.yaml"))

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,6 +50,19 @@ inline void write_trajectory(const std::string& path) {
 }
 
 // Collects datagrams on a thread until `stop`.
+// The circle written by write_trajectory, read back as the truth (cubic, the yard's georef).
+inline core::Trajectory circle_truth(const std::string& path) {
+    return core::load_trajectory_csv(path, core::Georef::projected(32632, {500000, 5000000, 0}),
+                                     core::Interpolation::Cubic);
+}
+
+// "t0 gps:<s>" from `mirage fake-ins`: the instant its trajectory starts.
+inline core::GpsTime parse_t0(const std::string& line) {
+    std::smatch m;
+    if (!std::regex_search(line, m, std::regex("t0 gps:([0-9]+\\.[0-9]+)"))) return {};
+    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
+}
+
 class Collector {
   public:
     Collector() : thread_([this] { run(); }) {}

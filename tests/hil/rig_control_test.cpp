@@ -110,11 +110,9 @@ std::string rig_text(std::uint16_t left, std::uint16_t rear, const std::string& 
            std::to_string(rear) + "}\n";
 }
 
-// Median distance of the packets' points from the yard, placed with platform ∘ mount.
-double median_off_yard(const std::vector<std::vector<std::uint8_t>>& packets,
-                       const core::Pose& mount) {
-    const core::Pose platform{{2, -3, 1.8}, core::quaternion_from_rpy(0, 0, 30 * kDeg)};
-    const core::Pose pose = platform * mount;
+// Median distance from the yard of the packets' points, all placed with one pose.
+double median_with_pose(const std::vector<std::vector<std::uint8_t>>& packets,
+                        const core::Pose& pose) {
     std::vector<double> err;
     velodyne::DecodedPacket dp;
     for (const auto& p : packets) {
@@ -126,6 +124,13 @@ double median_off_yard(const std::vector<std::vector<std::uint8_t>>& packets,
     if (err.empty()) return -1;
     std::nth_element(err.begin(), err.begin() + std::ptrdiff_t(err.size() / 2), err.end());
     return err[err.size() / 2];
+}
+
+// Median distance of the packets' points from the yard, placed with platform ∘ mount.
+double median_off_yard(const std::vector<std::vector<std::uint8_t>>& packets,
+                       const core::Pose& mount) {
+    const core::Pose platform{{2, -3, 1.8}, core::quaternion_from_rpy(0, 0, 30 * kDeg)};
+    return median_with_pose(packets, platform * mount);
 }
 
 const core::Pose kRearMount{{-1, 0, 0.5}, core::quaternion_from_rpy(0, 10 * kDeg, 180 * kDeg)};
@@ -379,28 +384,6 @@ TEST(RigControl, mbpoll_and_pymodbus_drive_the_rig_over_tcp_and_rtu) {
     ::waitpid(socat, nullptr, 0);
 }
 
-core::GpsTime parse_t0(const std::string& line) {
-    std::smatch m;
-    if (!std::regex_search(line, m, std::regex("t0 gps:([0-9]+\\.[0-9]+)"))) return {};
-    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
-}
-
-// Median distance from the yard of the packets' points, all placed with one pose.
-double median_with_pose(const std::vector<std::vector<std::uint8_t>>& packets,
-                        const core::Pose& pose) {
-    std::vector<double> err;
-    velodyne::DecodedPacket dp;
-    for (const auto& p : packets) {
-        if (p.size() != 1206 || velodyne::decode_data(p, nullptr, dp) != velodyne::DecodeStatus::Ok)
-            continue;
-        for (const auto& f : dp.firing)
-            if (f.distance_m > 0) err.push_back(distance_to_yard(pose.apply({f.x, f.y, f.z})));
-    }
-    if (err.empty()) return -1;
-    std::nth_element(err.begin(), err.begin() + std::ptrdiff_t(err.size() / 2), err.end());
-    return err[err.size() / 2];
-}
-
 // A live rig (DIS) under control: freezing navigation holds one pose — the points then fit a
 // single pose of the circling car and not the truth at their times — and stale navigation
 // sends packets without returns, counted as a stale period.
@@ -408,9 +391,7 @@ TEST(RigControl, frozen_and_stale_navigation_on_a_live_rig) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     write_trajectory(tmp.file("circle.csv"));
-    const core::Trajectory truth = core::load_trajectory_csv(
-        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
-        core::Interpolation::Cubic);
+    const core::Trajectory truth = circle_truth(tmp.file("circle.csv"));
     Receiver rx;
     {
         std::ofstream(tmp.file("rig.yaml"))

@@ -120,12 +120,6 @@ TEST(Rig, two_mounted_sensors_stream_on_one_clock_onto_the_yard) {
     EXPECT_GT(check(left.packets(), platform * mount({-1, 0, 0.5}, 0, 10, 180)).p99, 0.5);
 }
 
-core::GpsTime parse_t0(const std::string& line) {
-    std::smatch m;
-    if (!std::regex_search(line, m, std::regex("t0 gps:([0-9]+\\.[0-9]+)"))) return {};
-    return core::GpsTime(*core::parse_decimal_seconds(m[1].str()));
-}
-
 // A live source drives the rig: `mirage fake-ins --protocol dis` sends the car circling the
 // yard to the rig's UDP port; both sensors' points, placed with the truth pose at their times
 // composed with each sensor's mount, lie on the yard.
@@ -133,9 +127,7 @@ TEST(Rig, a_dis_entity_drives_two_mounted_sensors_onto_the_yard) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     write_trajectory(tmp.file("circle.csv"));
-    const core::Trajectory truth = core::load_trajectory_csv(
-        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
-        core::Interpolation::Cubic);
+    const core::Trajectory truth = circle_truth(tmp.file("circle.csv"));
     Collector left, rear;
     std::string text = rig_text(left.port(), rear.port());
     const std::string static_nav = "navigation: {trajectory: 'static:2,-3,1.8,0,0,30'}";
@@ -243,9 +235,7 @@ TEST(Rig, a_recorded_nav_log_drives_the_rig) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     write_trajectory(tmp.file("circle.csv"));
-    const core::Trajectory truth = core::load_trajectory_csv(
-        tmp.file("circle.csv"), core::Georef::projected(32632, {500000, 5000000, 0}),
-        core::Interpolation::Cubic);
+    const core::Trajectory truth = circle_truth(tmp.file("circle.csv"));
     BackgroundMirage live = start_mirage(
         "live --scene " + tmp.file("yard.yaml") +
         " --sensor vlp16 --position-port 0 --no-status --duration 3 --first-nav-timeout 15"
