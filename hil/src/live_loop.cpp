@@ -35,22 +35,14 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
                                              const navio::NavInput& nav, const std::string& nav_uri,
                                              double timeout_s, const std::atomic<bool>& stop,
                                              const std::string& who) {
-    const auto deadline = std::chrono::steady_clock::now() +
-                          std::chrono::milliseconds(static_cast<int>(timeout_s * 1e3));
-    std::optional<core::GpsTime> first;
-    while (!stop.load() && !(first = poses.newest())) {
-        if (std::chrono::steady_clock::now() > deadline) {
-            const auto c = nav.counters();
-            throw FirstPoseTimeout(
-                fmt::format("{}: no full pose (position + attitude + time) from '{}' within {} s "
-                            "({}; bytes skipped {}{}{})",
-                            who, nav_uri, timeout_s, navpose::nav_counters_line(c.decode, c.track),
-                            c.decode.garbage_bytes, c.detail.empty() ? "" : "; ", c.detail));
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
+    if (await_first_pose(poses, stop, timeout_s)) return poses.newest();
     if (stop.load()) return std::nullopt;
-    return first;
+    const auto c = nav.counters();
+    throw FirstPoseTimeout(
+        fmt::format("{}: no full pose (position + attitude + time) from '{}' within {} s "
+                    "({}; bytes skipped {}{}{})",
+                    who, nav_uri, timeout_s, navpose::nav_counters_line(c.decode, c.track),
+                    c.decode.garbage_bytes, c.detail.empty() ? "" : "; ", c.detail));
 }
 
 bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>& stop,
@@ -62,9 +54,11 @@ bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>&
     return !stop.load() && poses.newest().has_value();
 }
 
-std::int64_t host_pulse0_ns() {
-    const std::int64_t gps = hostclock::monotonic_ns() - host_gps_offset_ns();
-    return (gps / 1'000'000 + 20) * 1'000'000;
+LiveOptions before_first_pose(LiveOptions lo, std::int64_t host_offset_ns) {
+    lo.until_first_pose = true;
+    lo.host_clock_offset_ns = host_offset_ns;
+    lo.message_latency = false;
+    return lo;
 }
 
 LiveTotals stream_before_first_pose(Job& job, output::PacketOutput& out, navio::NavInput& nav,
@@ -72,11 +66,8 @@ LiveTotals stream_before_first_pose(Job& job, output::PacketOutput& out, navio::
                                     const wire::WireOptions& wo, const std::string& to,
                                     core::Nanos delay, const std::atomic<bool>& stop) {
     const std::int64_t off = host_gps_offset_ns();
-    job.options.start = core::GpsTime(core::Nanos(host_pulse0_ns()));
-    lo.until_first_pose = true;
-    lo.host_clock_offset_ns = off;
-    lo.message_latency = false;
-    LiveSession session(job, out, nav, poses, lo);
+    job.options.start = host_gps_time_ahead(kHostPulse0Lead);
+    LiveSession session(job, out, nav, poses, before_first_pose(lo, off));
     wire::WireContext ctx = wire_context(job);
     ctx.gps_locked = false;  // no fix yet: PPS absent, $GPRMC void
     wire::WireSetup w = wire::make_wire(

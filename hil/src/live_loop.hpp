@@ -60,9 +60,11 @@ std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,
 // True once the pose buffer holds a pose; false after `seconds` or when `stop` is set.
 bool await_first_pose(const navpose::PoseBuffer& poses, const std::atomic<bool>& stop,
                       double seconds);
-// A pulse 0 20 ms ahead on the host's GPS time (whole ms): the sensor clock before the INS has
-// one.
-std::int64_t host_pulse0_ns();
+// Before the INS has a clock, pulse 0 fires this far ahead on the host's GPS time.
+inline constexpr core::Nanos kHostPulse0Lead{20'000'000};
+// `lo` for the run before the first pose: ends at the first pose, paced on the host's clock
+// (`host_offset_ns`: CLOCK_MONOTONIC − GPS), no INS messages to time.
+LiveOptions before_first_pose(LiveOptions lo, std::int64_t host_offset_ns);
 // Pulse 0's INS time (ns): a serial line may hold a backlog of old messages, so 250 ms pass for
 // the INS-to-host offset (lower envelope of arrival − INS time) to settle on messages arriving
 // live; then the present INS time + 20 ms, whole ms.

@@ -83,7 +83,7 @@ void rewire(RigRun& r, std::uint32_t index, bool gps_locked = true) {
 std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
                                  const std::shared_ptr<udp::SharedSender>& sender,
                                  const control::FaultSettings& defaults,
-                                 const control::ControlModel* control) {
+                                 const control::ControlModel* control, bool gps_locked) {
     auto r = std::make_unique<RigRun>();
     r->sensor = &s;
     output::PacketOutputOptions po;
@@ -98,7 +98,7 @@ std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
     r->dropper = std::make_unique<control::PacketDropper>(s.job.options.seed, index);
     if (!s.entry.las.empty())
         r->las = std::make_unique<las::LasWriter>(s.entry.las, s.job.scene->georef);
-    rewire(*r, index);
+    rewire(*r, index, gps_locked);
     return r;
 }
 
@@ -179,12 +179,13 @@ std::shared_ptr<udp::SharedSender> make_sender(int rt_priority) {
 }
 
 std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOptions& o,
-                                               const std::shared_ptr<udp::SharedSender>& sender) {
+                                               const std::shared_ptr<udp::SharedSender>& sender,
+                                               bool gps_locked = true) {
     const auto defaults = rig_fault_defaults(plan.config);
     std::vector<std::unique_ptr<RigRun>> runs;
     for (std::size_t i = 0; i < plan.sensors.size(); ++i)
         runs.push_back(open_run(*plan.sensors[i], static_cast<std::uint32_t>(i), sender,
-                                defaults[i], o.control));
+                                defaults[i], o.control, gps_locked));
     return runs;
 }
 
@@ -261,14 +262,11 @@ bool stream_rig_before_first_pose(RigPlan& plan, const RigRunOptions& o,
                  "mirage rig: no full pose yet: streaming without returns on the host "
                  "clock until one arrives\n");
     const double cpu0 = hostclock::process_cpu_seconds();
-    const std::int64_t h0 = host_pulse0_ns(), off = host_gps_offset_ns();
+    const std::int64_t off = host_gps_offset_ns();
+    const std::int64_t h0 = host_gps_time_ahead(kHostPulse0Lead).time_since_epoch().count();
     for (auto& s : plan.sensors) s->job.options.start = core::GpsTime(core::Nanos(h0));
-    runs = open_runs(plan, o, sender);
-    for (std::size_t i = 0; i < runs.size(); ++i) rewire(*runs[i], std::uint32_t(i), false);
-    LiveOptions l1 = lo;
-    l1.until_first_pose = true;
-    l1.host_clock_offset_ns = off;
-    l1.message_latency = false;
+    runs = open_runs(plan, o, sender, false);
+    LiveOptions l1 = before_first_pose(lo, off);
     for (auto& r : runs) {
         l1.faults = r->cell;
         r->session = std::make_unique<LiveSession>(r->sensor->job, *r->out, nav, poses, l1);
