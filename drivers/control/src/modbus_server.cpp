@@ -17,8 +17,10 @@
 
 #include <array>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
+#include <span>
 #include <vector>
 
 #include "mirage/core/error.hpp"
@@ -30,6 +32,7 @@ namespace {
 constexpr std::size_t kMbap = 7;                  // transaction, protocol, length, unit
 constexpr std::size_t kMaxTcpAdu = 260;           // MODBUS_TCP_MAX_ADU_LENGTH
 constexpr std::int64_t kIdleNs = 60'000'000'000;  // a silent TCP client is closed
+constexpr int kBurst = 32;                        // requests per client per poll round
 constexpr std::int64_t kBackoffMinNs = 100'000'000, kBackoffMaxNs = 5'000'000'000;
 
 struct ModbusDeleter {
@@ -80,41 +83,60 @@ struct ModbusServer::Impl {
         std::lock_guard lk(cm);
         ++(c.*field);
     }
-    void answer(modbus_t* ctx, modbus_mapping_t* map, const std::uint8_t* req, int len,
+    bool answer(modbus_t* ctx, modbus_mapping_t* map, const std::uint8_t* req, int len,
                 std::size_t header, std::size_t pdu_len);
+    Exception decide(const std::uint8_t* pdu, std::size_t pdu_len, Request& r,
+                     std::span<std::uint16_t> out);
     void open_tcp();
     void tcp_loop();
     void tcp_readable(Client& cl);
     bool connect_rtu();
+    bool reconnect_rtu();
     void open_rtu();
     void rtu_loop();
 };
 
-// One request whose framing is sound: checked, answered by the model, then replied by libmodbus
-// from a mapping holding exactly what the model answered.
-void ModbusServer::Impl::answer(modbus_t* ctx, modbus_mapping_t* map, const std::uint8_t* req,
-                                int len, std::size_t header, std::size_t pdu_len) {
-    const Checked chk =
-        check_request({req + header, pdu_len}, model.input_window(), model.holding_window());
-    Exception e = chk.exception;
-    std::array<std::uint16_t, kMaxReadCount> out{};
-    if (e != Exception::None) {
+// The model's answer to one PDU: checked, then handled. An internal error (the status callback
+// failing) is exception 04, counted, never an escape from the server's thread.
+Exception ModbusServer::Impl::decide(const std::uint8_t* pdu, std::size_t pdu_len, Request& r,
+                                     std::span<std::uint16_t> out) {
+    const Checked chk = check_request({pdu, pdu_len}, model.input_window(), model.holding_window());
+    if (chk.exception != Exception::None) {
         model.count_refused();
-    } else {
-        if (chk.request.function == Function::ReadInput && status) model.set_status(status());
-        e = model.handle(chk.request, hostclock::monotonic_ns(), out);
+        return chk.exception;
     }
+    r = chk.request;
+    try {
+        if (r.function == Function::ReadInput && status) model.set_status(status());
+        return model.handle(r, hostclock::monotonic_ns(), out);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "mirage: control: request failed: %s\n", e.what());
+        model.count_refused();
+        count(&ServerCounters::internal_errors);
+        return Exception::ServerFailure;
+    }
+}
+
+// One request whose framing is sound: decided by the model, then replied by libmodbus from a
+// mapping holding exactly what the model answered. False when the reply could not be sent whole
+// (a TCP client that stopped reading: its socket is non-blocking).
+bool ModbusServer::Impl::answer(modbus_t* ctx, modbus_mapping_t* map, const std::uint8_t* req,
+                                int len, std::size_t header, std::size_t pdu_len) {
+    Request r;
+    std::array<std::uint16_t, kMaxReadCount> out{};
+    const Exception e = decide(req + header, pdu_len, r, out);
+    int rc = 0;
     if (e != Exception::None) {
-        modbus_reply_exception(ctx, req, static_cast<unsigned>(e));
+        rc = modbus_reply_exception(ctx, req, static_cast<unsigned>(e));
     } else {
-        const Request& r = chk.request;
         if (r.function == Function::ReadInput)
             std::copy_n(out.begin(), r.count, map->tab_input_registers + r.address);
         else if (r.function == Function::ReadHolding)
             std::copy_n(out.begin(), r.count, map->tab_registers + r.address);
-        modbus_reply(ctx, req, len, map);
+        rc = modbus_reply(ctx, req, len, map);
     }
     count(&ServerCounters::replies);
+    return rc >= 0;
 }
 
 void ModbusServer::Impl::open_tcp() {
@@ -156,6 +178,17 @@ bool ModbusServer::Impl::connect_rtu() {
     return true;
 }
 
+// From the serial thread: a failure is one more failed attempt, never an escape.
+bool ModbusServer::Impl::reconnect_rtu() {
+    try {
+        return connect_rtu();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "mirage: control: %s\n", e.what());
+        count(&ServerCounters::internal_errors);
+        return false;
+    }
+}
+
 void ModbusServer::Impl::open_rtu() {
     if (!connect_rtu())
         throw IoError(fmt::format("control: rtu {}: {}", ep.rtu_device, modbus_strerror(errno)));
@@ -170,7 +203,8 @@ void ModbusServer::Impl::tcp_readable(Client& cl) {
         ::close(cl.fd);
         cl.fd = -1;
     };
-    for (;;) {
+    // At most kBurst requests per wake-up, so a flooding client leaves the others their turn.
+    for (int answered = 0; answered < kBurst;) {
         const std::size_t len = (std::size_t(cl.buf[4]) << 8) | cl.buf[5];
         const std::size_t want = cl.have < 6 ? 6 : 6 + len;
         const ssize_t n = ::recv(cl.fd, cl.buf.data() + cl.have, want - cl.have, MSG_DONTWAIT);
@@ -186,9 +220,15 @@ void ModbusServer::Impl::tcp_readable(Client& cl) {
         }
         if (cl.have < 6 + l) continue;
         modbus_set_socket(tcp.get(), cl.fd);
-        answer(tcp.get(), tcp_map.get(), cl.buf.data(), int(cl.have), kMbap, cl.have - kMbap);
+        const bool sent =
+            answer(tcp.get(), tcp_map.get(), cl.buf.data(), int(cl.have), kMbap, cl.have - kMbap);
         modbus_set_socket(tcp.get(), -1);  // the context must not close a client's descriptor
         cl.have = 0;
+        ++answered;
+        if (!sent) {  // a reply cut short cannot be resumed: the stream is lost
+            count(&ServerCounters::closed_unread);
+            return close_client();
+        }
     }
 }
 
@@ -211,7 +251,8 @@ void ModbusServer::Impl::tcp_loop() {
         }
         std::erase_if(clients, [](const Client& cl) { return cl.fd < 0; });
         if (fds[0].revents & POLLIN) {
-            const int fd = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC);
+            // Non-blocking: a client that sends but never reads must not stall this thread.
+            const int fd = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
             if (fd >= 0 && clients.size() >= std::size_t(ep.max_clients)) {
                 ::close(fd);
                 count(&ServerCounters::refused_connections);
@@ -246,7 +287,7 @@ void ModbusServer::Impl::rtu_loop() {
                 ::usleep(20'000);
                 continue;
             }
-            if (!connect_rtu()) {
+            if (!reconnect_rtu()) {
                 backoff = std::min(backoff * 2, kBackoffMaxNs);
                 retry_at = hostclock::monotonic_ns() + backoff;
                 continue;

@@ -14,9 +14,11 @@
 
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -309,6 +311,53 @@ TEST(ModbusServer, RtuOverAPtyServesAndReopensAVanishedLine) {
     ASSERT_EQ(modbus_read_input_registers(c.get(), ir::kState, 1, &v), 1) << modbus_strerror(errno);
     EXPECT_EQ(v, 1);
     std::filesystem::remove_all(dir);
+}
+
+// A client that pipelines reads of 125 input registers and never reads the replies: once its socket
+// buffers are full the server closes it (counted) instead of blocking, answers another client
+// meanwhile, and stops promptly. A status callback that throws is exception 04, not a crash.
+TEST(ModbusServer, AClientThatNeverReadsIsClosedNotWaitedFor) {
+    ControlEndpoint ep;
+    ep.tcp_port = 0;
+    ControlModel model(ident(), {}, 0);
+    bool fail_status = false;
+    auto server = std::make_unique<ModbusServer>(ep, model, [&fail_status] {
+        if (fail_status) throw std::runtime_error("status unavailable");
+        RigStatus s;
+        s.sensors.resize(2);
+        return s;
+    });
+    server->start();
+    const int fd = raw_connect(server->tcp_port());
+    const auto req = mbap(1, {0x04, 0x00, 0x00, 0x00, 125});  // 12 bytes in, 259 out
+    std::size_t sent = 0;
+    const auto deadline = Clock::now() + std::chrono::seconds(10);
+    while (Clock::now() < deadline && server->counters().closed_unread == 0) {
+        const ssize_t n = ::send(fd, req.data(), req.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            sent += std::size_t(n) / req.size();
+        } else {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    }
+    const ServerCounters c = server->counters();
+    std::printf(
+        "[ modbus ] a client that never reads: %zu requests sent, closed after %llu "
+        "replies\n",
+        sent, static_cast<unsigned long long>(c.replies));
+    EXPECT_EQ(c.closed_unread, 1u);
+    auto other = tcp_client(server->tcp_port());
+    std::uint16_t v = 0;
+    EXPECT_EQ(modbus_read_input_registers(other.get(), ir::kState, 1, &v), 1)
+        << modbus_strerror(errno);
+    fail_status = true;
+    EXPECT_EQ(modbus_read_input_registers(other.get(), ir::kState, 1, &v), -1);
+    EXPECT_EQ(errno, EMBXSFAIL);
+    EXPECT_EQ(server->counters().internal_errors, 1u);
+    const auto t0 = Clock::now();
+    server->stop();
+    EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 1.0);
+    ::close(fd);
 }
 
 TEST(ModbusServer, AnAddressInUseIsAClearError) {

@@ -32,7 +32,8 @@ void parse_tcp_address(const std::string& text, ControlEndpoint& e);
 
 struct ServerCounters {
     std::uint64_t connections = 0, refused_connections = 0, closed_malformed = 0, closed_idle = 0,
-                  frame_errors = 0, replies = 0, rtu_reopens = 0;
+                  closed_unread = 0,  // the client stopped reading: a reply did not fit
+        frame_errors = 0, replies = 0, internal_errors = 0, rtu_reopens = 0;
     int clients = 0;
     bool rtu_open = false;
 };

@@ -82,6 +82,7 @@ enum class Exception : std::uint8_t {
     IllegalFunction = 1,
     IllegalAddress = 2,
     IllegalValue = 3,
+    ServerFailure = 4,  // the server could not answer (an internal error, counted)
     ServerBusy = 6,
 };
 
