@@ -32,6 +32,8 @@ class RigReader : private scene::YamlReader {
         const std::string scene = string(root["scene"], "scene");
         c.scene = scene == "demo" ? scene : file_path(scene);
         navigation(root["navigation"], c);
+        if (root["start"] && !c.nav.empty())  // a live source's time is the INS's
+            fail("start", "the rig's navigation is a live source", root["start"]);
         if (root["start"]) c.start = string(root["start"], "start");
         if (root["duration"]) {
             (void)positive(root["duration"], "duration");
@@ -104,6 +106,9 @@ class RigReader : private scene::YamlReader {
         Faults f;
         const auto key = [&](const char* k) { return sub(path, k); };
         if (n["drop_rate"]) f.drop_rate = number_in(n["drop_rate"], key("drop_rate"), 0, 1);
+        if (f.drop_rate > 0 && f.drop_rate < 0.00005)  // would round to 0 in 1/10000
+            fail(key("drop_rate"), "0, or at least 0.0001 (the control plane's step)",
+                 n["drop_rate"]);
         if (n["drop_burst"])
             f.drop_burst = static_cast<int>(integer(n["drop_burst"], key("drop_burst"), 1, 1000));
         if (n["range_bias"])
@@ -165,13 +170,17 @@ class RigReader : private scene::YamlReader {
             if (!s["name"]) fail(sub(ip, "name"), "missing", s);
             x.name = string(s["name"], sub(ip, "name"));
             if (s["trajectory"]) {
-                if (!c.nav.empty())
-                    fail(sub(ip, "trajectory"), "the rig's navigation is a live source",
+                if (!c.nav.empty() || !c.nav_log.empty())
+                    fail(sub(ip, "trajectory"),
+                         c.nav.empty() ? "the rig's navigation is a navigation log"
+                                       : "the rig's navigation is a live source",
                          s["trajectory"]);
                 const std::string t = string(s["trajectory"], sub(ip, "trajectory"));
                 x.trajectory =
                     t.starts_with("demo-") || t.starts_with("static:") ? t : file_path(t);
             }
+            if (s["start"] && !c.nav.empty())  // a live source's time is the INS's
+                fail(sub(ip, "start"), "the rig's navigation is a live source", s["start"]);
             if (s["start"]) x.start = string(s["start"], sub(ip, "start"));
             if (s["duration"]) {
                 (void)positive(s["duration"], sub(ip, "duration"));

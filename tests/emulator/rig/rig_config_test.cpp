@@ -174,6 +174,16 @@ TEST(RigConfig, mistakes_name_the_key_path_and_line) {
     expect_refused("threads: 2", "threads: 2\ncontrol: {tcp: 'off'}", {"control.tcp", "no rtu"});
     expect_refused("threads: 2", "threads: 2\ncontrol: {scenarios: [{trajectory: x}]}",
                    {"control.scenarios[0].name", "missing"});
+    expect_refused("threads: 2", "threads: 2\nfaults: {drop_rate: 0.00001}",
+                   {"faults.drop_rate", "0.0001"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30",
+                   "  nav_log: a.nmea\ncontrol: {scenarios: [{name: a, trajectory: demo-car}]}",
+                   {"control.scenarios[0].trajectory", "navigation log"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30",
+                   "  nav: ncom:udp://:3000\ncontrol: {scenarios: [{name: a, start: now}]}",
+                   {"control.scenarios[0].start", "live source"});
+    expect_refused("  trajectory: static:0,0,1.8,0,0,30", "  nav: ncom:udp://:3000\nstart: now",
+                   {"start", "live source"});
     expect_refused("threads: 2", "threads: 2\nfaults: {freeze_nav: true}",
                    {"faults.freeze_nav", "live navigation"});
     expect_refused("    pcap: out/roof.pcap", "    pcap: out/roof.pcap\n    faults: {drop_rate: 2}",
