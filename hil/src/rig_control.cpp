@@ -56,19 +56,22 @@ rig::RigConfig scenario_config(const rig::RigConfig& c, std::size_t i) {
     return s;
 }
 
-// One run of the rig on its own thread; `stop` ends it early.
+// One run of the rig on its own thread; `stop` ends it early. `id`: the model's run number.
 struct ActiveRun {
+    std::uint64_t id = 0;
     std::atomic<bool> stop{false}, done{false};
     std::string error;
     bool nav_lost = false;
     std::thread thread;
 };
 
-void start_run(ActiveRun& a, const rig::RigConfig& config, std::size_t scenario,
-               const RigControlOptions& o, const control::ControlModel& model, RigView& view) {
-    a.thread = std::thread([&a, &config, scenario, &o, &model, &view] {
+// `base`: the plan whose scene and BVH the run shares.
+void start_run(ActiveRun& a, const rig::RigConfig& config, const RigPlan& base,
+               std::size_t scenario, const RigControlOptions& o, const control::ControlModel& model,
+               RigView& view) {
+    a.thread = std::thread([&a, &config, &base, scenario, &o, &model, &view] {
         try {
-            RigPlan plan = plan_rig(scenario_config(config, scenario), o.duration_override);
+            RigPlan plan = plan_rig(scenario_config(config, scenario), o.duration_override, &base);
             RigRunOptions ro;
             ro.status_line = o.status_line;
             ro.rt_priority = o.rt_priority;
@@ -76,7 +79,7 @@ void start_run(ActiveRun& a, const rig::RigConfig& config, std::size_t scenario,
             ro.control = &model;
             ro.view = &view;
             std::fprintf(stderr, "mirage rig: control: run %llu, scenario %zu\n",
-                         static_cast<unsigned long long>(model.runs()), scenario);
+                         static_cast<unsigned long long>(a.id), scenario);
             if (plan.config.nav.empty())
                 run_rig(plan, ro);
             else
@@ -111,7 +114,11 @@ void run_controlled_rig(const rig::RigConfig& config, const RigControlOptions& o
     if (config.sensors.size() > control::kMaxSensors)
         throw ConfigError(fmt::format("rig '{}': control: at most {} sensors under a control plane",
                                       config.file, control::kMaxSensors));
-    (void)plan_rig(scenario_config(config, 0), o.duration_override);  // refuse a bad rig now
+    // Every scenario planned now, so a bad one is refused at load rather than at its start; the
+    // scene and BVH are loaded once and shared by every run.
+    const RigPlan base = plan_rig(scenario_config(config, 0), o.duration_override);
+    for (std::size_t i = 1; i < config.control.scenarios.size(); ++i)
+        (void)plan_rig(scenario_config(config, i), o.duration_override, &base);
     control::ControlModel model(identity(config), rig_fault_defaults(config),
                                 static_cast<std::uint16_t>(config.control.watchdog_ms));
     RigView view;
@@ -128,26 +135,33 @@ void run_controlled_rig(const rig::RigConfig& config, const RigControlOptions& o
         config.control.rtu.empty() ? "off" : config.control.rtu.c_str());
     const auto& sig = install_stop_signal();
     std::unique_ptr<ActiveRun> run;
+    std::uint64_t last_run = 0;
     const auto finish = [&] {
         run->thread.join();
         if (!run->error.empty())
-            model.fault(run->nav_lost ? control::ErrorCode::NavigationLost
-                                      : control::ErrorCode::SensorFailed);
+            model.fault(run->id, run->nav_lost ? control::ErrorCode::NavigationLost
+                                               : control::ErrorCode::SensorFailed);
         else
-            model.run_ended();
+            model.run_ended(run->id);
         run.reset();
     };
     while (!sig.load()) {
         model.tick(hostclock::monotonic_ns());
-        const control::RigState st = model.state();
-        if (!run && st == control::RigState::Running) {
-            run = std::make_unique<ActiveRun>();
-            start_run(*run, config, model.scenario(), o, model, view);
-        } else if (run && st != control::RigState::Running) {
-            run->stop = true;  // stop, reset or the watchdog's safe state
+        const control::ControlModel::Order order = model.order();
+        const bool wanted = order.state == control::RigState::Running;
+        // Stop, reset, the watchdog's safe state, a newer start, or a failed sensor (the rest of
+        // the rig stops with it: fault is the safe state) end the run; so does its own end.
+        if (run && (!wanted || run->id != order.run || view.sensor_failed())) {
+            run->stop = true;
+            view.discard_queued();  // quiet now, not after the render lead (docs/control.md §4)
             finish();
         } else if (run && run->done.load()) {
             finish();
+        } else if (!run && wanted && order.run != last_run) {
+            last_run = order.run;
+            run = std::make_unique<ActiveRun>();
+            run->id = order.run;
+            start_run(*run, config, base, order.scenario, o, model, view);
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
@@ -159,13 +173,16 @@ void run_controlled_rig(const rig::RigConfig& config, const RigControlOptions& o
     const control::ServerCounters sc = server.counters();
     std::printf(
         "mirage rig: control: %llu runs; %llu connections (%llu refused, %llu closed malformed, "
-        "%llu idle); %llu replies; serial frame errors %llu, reopens %llu\n",
+        "%llu idle, %llu not reading); %llu replies, %llu internal errors; serial frame errors "
+        "%llu, reopens %llu\n",
         static_cast<unsigned long long>(model.runs()),
         static_cast<unsigned long long>(sc.connections),
         static_cast<unsigned long long>(sc.refused_connections),
         static_cast<unsigned long long>(sc.closed_malformed),
         static_cast<unsigned long long>(sc.closed_idle),
+        static_cast<unsigned long long>(sc.closed_unread),
         static_cast<unsigned long long>(sc.replies),
+        static_cast<unsigned long long>(sc.internal_errors),
         static_cast<unsigned long long>(sc.frame_errors),
         static_cast<unsigned long long>(sc.rtu_reopens));
 }

@@ -16,15 +16,16 @@ namespace {
 
 std::unique_ptr<RigSensor> plan_sensor(const rig::SensorEntry& e, const JobInputs& common,
                                        const std::shared_ptr<const scene::Scene>& scene,
-                                       double scene_s, const RigPlan& plan) {
+                                       double scene_s, const RigPlan& plan, const RigPlan* reuse) {
     auto r = std::make_unique<RigSensor>();
     r->entry = e;
     JobInputs in = common;
     in.sensor = e.sensor;
     in.lever_arm.assign(e.lever_arm.begin(), e.lever_arm.end());
     in.boresight.assign(e.boresight.begin(), e.boresight.end());
-    r->job = load_job_with_scene(in, scene, scene_s, plan.sensors.empty());
-    if (!plan.sensors.empty()) r->job.renderer = plan.sensors.front()->job.renderer;  // one BVH
+    const RigPlan& owner = plan.sensors.empty() && reuse ? *reuse : plan;
+    r->job = load_job_with_scene(in, scene, scene_s, owner.sensors.empty());
+    if (!owner.sensors.empty()) r->job.renderer = owner.sensors.front()->job.renderer;  // one BVH
     r->wire.return_mode = e.return_mode;
     r->wire.profile = e.profile;
     r->wire.timestamp_mode = e.timestamp_mode;
@@ -68,7 +69,9 @@ void check_run_settings(const rig::RigConfig& c, const std::string& duration, Ri
 
 }  // namespace
 
-RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override) {
+RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override,
+                 const RigPlan* reuse) {
+    if (reuse && reuse->sensors.empty()) reuse = nullptr;
     RigPlan plan;
     plan.config = config;
     // A live source: the pose comes later; the job's trajectory and duration are stand-ins.
@@ -98,12 +101,13 @@ RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_overr
         common.start = gps_now_spec();
         plan.start_now = !live;
     }
-    double scene_s = 0;
-    const auto scene = load_scene_timed(config.scene, scene_s);
+    double scene_s = reuse ? reuse->sensors.front()->job.scene_seconds : 0;
+    const auto scene =
+        reuse ? reuse->sensors.front()->job.scene : load_scene_timed(config.scene, scene_s);
     for (std::size_t i = 0; i < config.sensors.size(); ++i) {
         const rig::SensorEntry& e = config.sensors[i];
         try {
-            plan.sensors.push_back(plan_sensor(e, common, scene, scene_s, plan));
+            plan.sensors.push_back(plan_sensor(e, common, scene, scene_s, plan, reuse));
         } catch (const ConfigError& err) {
             throw ConfigError(fmt::format("rig '{}': sensors[{}] ('{}', line {}): {}", config.file,
                                           i, e.name, e.line, err.what()));

@@ -32,8 +32,11 @@ struct RigPlan {
     std::vector<std::unique_ptr<RigSensor>> sensors;
 };
 
-// `duration_override`: --duration when given. Opens no socket or file.
-RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override);
+// `duration_override`: --duration when given. Opens no socket or file. `reuse`: a plan of the
+// same rig file whose scene and BVH this one shares instead of loading and building its own (a
+// controlled rig plans each scenario at load and again at each start).
+RigPlan plan_rig(const rig::RigConfig& config, const std::string& duration_override,
+                 const RigPlan* reuse = nullptr);
 // The effective configuration, one block per sensor (`mirage rig --check`).
 std::string describe(const RigPlan& plan);
 

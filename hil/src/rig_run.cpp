@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <pthread.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -47,10 +48,13 @@ class LasTee final : public wire::Packetizer {
 void send(RigRun& r, const wire::PacketView& p) {
     const control::FaultSettings f = r.cell->load();
     r.newest_ns.store(p.time.time_since_epoch().count(), std::memory_order_relaxed);
-    if (f.stop) {
+    if (f.stop || (r.halt && r.halt->load(std::memory_order_relaxed))) {
+        // Quiet from now: what was rendered ahead and queued goes too (docs/control.md §5).
+        if (!r.quiet.exchange(true, std::memory_order_relaxed)) r.out->discard_queued();
         r.withheld.fetch_add(1, std::memory_order_relaxed);
         return;
     }
+    r.quiet.store(false, std::memory_order_relaxed);
     if (r.dropper->drop(f)) {
         r.dropped.fetch_add(1, std::memory_order_relaxed);
         return;
@@ -83,7 +87,8 @@ void rewire(RigRun& r, std::uint32_t index, bool gps_locked = true) {
 std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
                                  const std::shared_ptr<udp::SharedSender>& sender,
                                  const control::FaultSettings& defaults,
-                                 const control::ControlModel* control, bool gps_locked) {
+                                 const control::ControlModel* control,
+                                 const std::atomic<bool>* halt, bool gps_locked) {
     auto r = std::make_unique<RigRun>();
     r->sensor = &s;
     output::PacketOutputOptions po;
@@ -95,6 +100,7 @@ std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
     r->out = std::make_unique<output::PacketOutput>(po);
     r->own_cell.store(defaults);
     r->cell = control ? &control->faults(index) : &r->own_cell;
+    if (control) r->halt = halt;
     r->dropper = std::make_unique<control::PacketDropper>(s.job.options.seed, index);
     if (!s.entry.las.empty())
         r->las = std::make_unique<las::LasWriter>(s.entry.las, s.job.scene->georef);
@@ -142,9 +148,10 @@ std::string sensor_line(const RigRun& r, double wall_s) {
         s += fmt::format("; pipeline CPU {:.2f} s ({:.1f} % of one core)", cpu,
                          wall_s > 0 ? 100 * cpu / wall_s : 0.0);
     }
-    if (r.dropped.load() || r.withheld.load() || r.faulty->stale_points())
-        s += fmt::format("; faults: dropped {}, withheld {}, returns removed {}", r.dropped.load(),
-                         r.withheld.load(), r.faulty->stale_points());
+    if (r.dropped.load() || r.withheld.load() || r.faulty->stale_points() || t.discarded)
+        s += fmt::format(
+            "; faults: dropped {}, withheld {}, returns removed {}; unsent at the stop {}",
+            r.dropped.load(), r.withheld.load(), r.faulty->stale_points(), t.discarded);
     if (!r.error.empty()) s += "; FAILED: " + r.error;
     return s + "\n";
 }
@@ -185,7 +192,7 @@ std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOption
     std::vector<std::unique_ptr<RigRun>> runs;
     for (std::size_t i = 0; i < plan.sensors.size(); ++i)
         runs.push_back(open_run(*plan.sensors[i], static_cast<std::uint32_t>(i), sender,
-                                defaults[i], o.control, gps_locked));
+                                defaults[i], o.control, o.stop, gps_locked));
     return runs;
 }
 
@@ -202,6 +209,7 @@ void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
             pthread_setname_np(pthread_self(), "mirage-rig");
             try {
                 body(*r);
+                if (r->halt && r->halt->load()) r->out->discard_queued();  // what slipped past
                 if (!before_first_pose) {
                     r->totals = r->out->finish();
                     if (r->las) r->las->close();  // throws naming the file if writing failed
@@ -323,6 +331,19 @@ void RigView::publish(std::vector<std::unique_ptr<RigRun>>* runs, const navio::N
     poses_ = poses;
     rate_at_ns_ = 0;
     applied_at_ = rate_ = 0;
+}
+
+void RigView::discard_queued() {
+    std::lock_guard lk(m_);
+    if (runs_)
+        for (const auto& r : *runs_) r->out->discard_queued();
+}
+
+bool RigView::sensor_failed() const {
+    std::lock_guard lk(m_);
+    if (!runs_) return false;
+    return std::any_of(runs_->begin(), runs_->end(),
+                       [](const auto& r) { return r->failed.load(); });
 }
 
 control::RigStatus RigView::status() const {

@@ -34,6 +34,10 @@ struct RigRun {
     std::atomic<std::uint64_t> packets{0}, dropped{0}, withheld{0};
     std::atomic<std::int64_t> newest_ns{0};  // sensor time of the newest packet
     std::atomic<bool> running{false}, failed{false};
+    std::atomic<bool> quiet{false};  // stopped: its queue was dropped at the first withheld packet
+    // Under a control plane: the run's stop flag; once set, nothing more is handed to the sender
+    // and what it holds is dropped (a stopped or faulted rig goes quiet at once).
+    const std::atomic<bool>* halt = nullptr;
     std::unique_ptr<LiveSession> session;  // live navigation: sends through the session
     render::RenderStats stats;
     LiveTotals live;
@@ -48,6 +52,8 @@ class RigView {
                  const navpose::PoseBuffer* poses);
     void clear() { publish(nullptr, nullptr, nullptr); }
     control::RigStatus status() const;
+    bool sensor_failed() const;  // a sensor of the published run has failed
+    void discard_queued();       // every sensor's packets queued with the sender, dropped
 
   private:
     mutable std::mutex m_;

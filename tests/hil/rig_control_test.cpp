@@ -70,9 +70,10 @@ struct RigProcess {
     BackgroundMirage b;
     pid_t pid = -1;
     int port = -1;
-    explicit RigProcess(const std::string& rig_file) {
-        b.pipe = ::popen(("echo pid $$; exec " + std::string(MIRAGE_EXE) + " rig " + rig_file +
-                          " --no-status 2>&1")
+    // `shell`: commands run before mirage replaces the shell (limits, signal dispositions).
+    explicit RigProcess(const std::string& rig_file, const std::string& shell = "") {
+        b.pipe = ::popen((shell + "echo pid $$; exec " + std::string(MIRAGE_EXE) + " rig " +
+                          rig_file + " --no-status 2>&1")
                              .c_str(),
                          "r");
         std::smatch m;
@@ -146,6 +147,20 @@ bool eventually(Pred pred, double seconds = 5) {
     return pred();
 }
 
+// Seconds from `since` to the last packet `rx` received, once it has been quiet for 300 ms.
+double quiet_after(const Receiver& rx, Clock::time_point since) {
+    std::size_t n = rx.count();
+    auto last = Clock::now();
+    while (Clock::now() - last < std::chrono::milliseconds(300)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (rx.count() != n) {
+            n = rx.count();
+            last = Clock::now();
+        }
+    }
+    return std::chrono::duration<double>(last - since).count();
+}
+
 struct ModbusClient {
     modbus_t* c = nullptr;
     explicit ModbusClient(int port) {
@@ -217,8 +232,10 @@ TEST(RigControl, a_controller_arms_starts_faults_reads_and_stops_a_running_rig) 
     const double before = median_off_yard(rear.since(0), kRearMount);
     // Fault: rear's ranges 2 m long; left stops sending.
     ASSERT_EQ(mb.write(fault_hr(kRear, 3), 2000), 1);
+    const auto left_stop_at = Clock::now();
     ASSERT_EQ(mb.write(fault_hr(kLeft, 6), 1), 1);
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));  // packets in flight pass
+    const double left_quiet_s = quiet_after(left, left_stop_at);
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));  // rear's biased packets arrive
     const std::size_t rear_mark = rear.count(), left_mark = left.count();
     ASSERT_TRUE(eventually([&] { return rear.count() > rear_mark + 700; })) << rig.b.output;
     const double after = median_off_yard(rear.since(rear_mark), kRearMount);
@@ -245,15 +262,20 @@ TEST(RigControl, a_controller_arms_starts_faults_reads_and_stops_a_running_rig) 
     EXPECT_EQ(mb.in(8), 2);
     std::printf(
         "[ rig control ] rear median off the yard: %.4f m before, %.4f m with a 2 m bias; "
-        "left stopped at %zu packets; rear %u packets by its counter\n",
-        before, after, left_mark, rear_packets);
+        "left stopped at %zu packets, its last %.3f s after the stop fault; rear %u packets by "
+        "its counter\n",
+        before, after, left_mark, left_quiet_s, rear_packets);
+    EXPECT_LT(left_quiet_s, 0.15);
     EXPECT_LT(before, 0.02);
     EXPECT_GT(after, 0.5);
-    // Stop: nothing more arrives; stopped.
+    // Stop: stopped; the packets queued with the sender are dropped, nothing more arrives.
+    const auto stop_at = Clock::now();
     ASSERT_EQ(mb.write(0, 3), 1);
     ASSERT_TRUE(eventually([&] { return mb.in(8) == 3; }));
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    const double drain_s = quiet_after(rear, stop_at);
     const std::size_t end_mark = rear.count();
+    std::printf("[ rig control ] last packet %.3f s after the stop command\n", drain_s);
+    EXPECT_LT(drain_s, 0.15);  // the queue is dropped, not drained (docs/control.md §4)
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     EXPECT_EQ(rear.count(), end_mark);
     EXPECT_EQ(rig.interrupt(), 0) << rig.b.output;
@@ -301,6 +323,90 @@ TEST(RigControl, a_silent_controller_trips_the_watchdog_into_the_safe_state) {
     EXPECT_GT(tripped_s, 0.39);  // the server stamps the heartbeat before the reply
     EXPECT_LT(tripped_s, 0.6);   // the supervisor ticks every 10 ms
     EXPECT_EQ(rig.interrupt(), 0) << rig.b.output;
+}
+
+// Stop, select another scenario, arm and start while the first run is still shutting down: the
+// second run starts with the new scenario and keeps running (its predecessor's end does not
+// stop it).
+TEST(RigControl, a_restart_during_the_previous_runs_shutdown_runs_the_new_scenario) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    Receiver left, rear;
+    {
+        std::ofstream(tmp.file("rig.yaml"))
+            << rig_text(left.port(), rear.port(),
+                        "  tcp: 127.0.0.1:0\n  scenarios:\n    - {name: a}\n"
+                        "    - {name: b, trajectory: 'static:6,1,1.8,0,0,-20'}\n");
+    }
+    RigProcess rig(tmp.file("rig.yaml"));
+    ASSERT_GT(rig.port, 0) << rig.b.output;
+    ModbusClient mb(rig.port);
+    ASSERT_EQ(mb.write(0, 1), 1);
+    ASSERT_EQ(mb.write(0, 2), 1);
+    ASSERT_TRUE(eventually([&] { return rear.count() > 300; })) << rig.b.output;
+    ASSERT_EQ(mb.write(0, 3), 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));  // the supervisor is joining
+    ASSERT_EQ(mb.write(1, 1), 1);
+    ASSERT_EQ(mb.write(0, 1), 1);
+    ASSERT_EQ(mb.write(0, 2), 1);
+    ASSERT_FALSE(rig.b.wait_for(std::regex("run 2, scenario 1"), 10).empty()) << rig.b.output;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // the first run's packets pass
+    const std::size_t from = rear.count();
+    ASSERT_TRUE(eventually([&] { return rear.count() > from + 700; })) << rig.b.output;
+    const core::Pose b{{6, 1, 1.8}, core::quaternion_from_rpy(0, 0, -20 * kDeg)};
+    const double median = median_with_pose(rear.since(from), b * kRearMount);
+    const std::uint16_t state = mb.in(8), runs = mb.in(18), scenario = mb.in(10);
+    std::printf(
+        "[ rig restart ] after stop-arm-start during shutdown: state %u, runs %u, "
+        "scenario %u; rear median %.4f m off the yard with scenario b's pose\n",
+        state, runs, scenario, median);
+    EXPECT_EQ(state, 2);
+    EXPECT_EQ(runs, 2);
+    EXPECT_EQ(scenario, 1);
+    EXPECT_GE(median, 0);
+    EXPECT_LT(median, 0.02);
+    EXPECT_EQ(rig.interrupt(), 0) << rig.b.output;
+}
+
+// A sensor that fails while running (its LAS file hits the file-size limit) takes the rig into
+// the safe state at once, duration or not: fault, last error 5, the other sensor stops too; the
+// LAS file keeps whole records.
+TEST(RigControl, a_sensor_failing_while_running_faults_the_rig) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    Receiver left, rear;
+    {
+        std::string text = rig_text(left.port(), rear.port(), "  tcp: 127.0.0.1:0\n");
+        text.replace(text.find("  - name: left\n") + 15, 0, "    las: left.las\n");
+        std::ofstream(tmp.file("rig.yaml")) << text;
+    }
+    // A file-size limit; past it a write fails with EFBIG instead of raising SIGXFSZ.
+    RigProcess rig(tmp.file("rig.yaml"), "trap '' XFSZ; ulimit -f 2000; ");
+    ASSERT_GT(rig.port, 0) << rig.b.output;
+    ModbusClient mb(rig.port);
+    ASSERT_EQ(mb.write(0, 1), 1);
+    const auto started = Clock::now();
+    ASSERT_EQ(mb.write(0, 2), 1);
+    ASSERT_TRUE(eventually([&] { return mb.in(8) == 4; }, 10)) << rig.b.output;
+    const double fault_s = std::chrono::duration<double>(Clock::now() - started).count();
+    EXPECT_EQ(mb.in(9), 5);  // a sensor failed
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    const std::size_t mark = rear.count();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_EQ(rear.count(), mark);  // the rest of the rig stopped with it
+    ASSERT_EQ(mb.write(0, 4), 1);
+    EXPECT_EQ(mb.in(8), 0);
+    EXPECT_EQ(rig.interrupt(), 0) << rig.b.output;
+    const auto las = std::filesystem::file_size(tmp.file("left.las"));
+    std::printf(
+        "[ rig sensor failure ] fault %.2f s after start; rear stopped at %zu packets; "
+        "left.las %ju bytes\n",
+        fault_s, mark, std::uintmax_t(las));
+    EXPECT_NE(rig.b.output.find("sensor 'left' failed"), std::string::npos) << rig.b.output;
+    EXPECT_GT(mark, 0u);
+    EXPECT_LE(las, 2000u * 1024);
+    const RunResult info = run_mirage("las-info " + tmp.file("left.las"));
+    EXPECT_EQ(info.exit_code, 0) << info.output;
 }
 
 bool have(const char* tool) {

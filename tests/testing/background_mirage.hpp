@@ -1,31 +1,56 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <poll.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <regex>
 #include <string>
 
 namespace mirage::test {
 
-// `mirage <args>` running in the background, its stdout and stderr read as they come.
+// `mirage <args>` running in the background, its stdout and stderr read as they come, straight
+// from the pipe's descriptor (no stdio buffer), so a wait can have a deadline.
 struct BackgroundMirage {
     FILE* pipe = nullptr;
     std::string output;
-    // Reads lines until one matches `re`; returns it (empty on EOF).
-    std::string wait_for(const std::regex& re) {
-        char buf[1024];
-        while (pipe && std::fgets(buf, sizeof buf, pipe)) {
-            output += buf;
-            if (std::regex_search(buf, re)) return buf;
+    std::string pending;  // read but not yet a whole line
+    // Reads lines until one matches `re` and returns it; empty on EOF or after `seconds`.
+    std::string wait_for(const std::regex& re, double seconds = 60) {
+        const auto deadline =
+            std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        for (;;) {
+            for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
+                std::string line = pending.substr(0, nl + 1);
+                pending.erase(0, nl + 1);
+                output += line;
+                if (std::regex_search(line, re)) return line;
+            }
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                deadline - std::chrono::steady_clock::now());
+            if (!pipe || left.count() <= 0) return {};
+            pollfd p{::fileno(pipe), POLLIN, 0};
+            if (::poll(&p, 1, int(left.count())) <= 0) continue;
+            char buf[4096];
+            const ssize_t n = ::read(p.fd, buf, sizeof buf);
+            if (n <= 0) {
+                output += pending;
+                pending.clear();
+                return {};
+            }
+            pending.append(buf, std::size_t(n));
         }
-        return {};
     }
     // Reads the rest and returns the exit status.
     int finish() {
         if (!pipe) return -1;
+        output += pending;
+        pending.clear();
         char buf[4096];
-        while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+        for (ssize_t n; (n = ::read(::fileno(pipe), buf, sizeof buf)) > 0;)
+            output.append(buf, std::size_t(n));
         const int st = ::pclose(pipe);
         pipe = nullptr;
         return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);

@@ -162,6 +162,7 @@ PacketOutputTotals PacketOutput::finish() {
         const auto c = shared_->sender->counters(shared_->id);
         totals_.sent = c.sent;
         totals_.send_failed = c.failed;
+        totals_.discarded = c.discarded;
         shared_stats = shared_->sender->lateness(shared_->id);
         const udp::LatenessHistogram send = shared_->sender->send_durations(shared_->id);
         totals_.send_p50 = send.percentile(0.50);

@@ -111,6 +111,26 @@ void SharedSender::flush(ChannelId id) {
     --space_waiters_;
 }
 
+std::uint64_t SharedSender::discard(ChannelId id) {
+    std::lock_guard lock(mutex_);
+    if (id >= channels_.size()) return 0;
+    const auto mine = [&](const Entry& e) { return slots_[e.slot].channel == id; };
+    std::uint64_t n = 0;
+    for (const Entry& e : heap_)
+        if (mine(e)) {
+            free_.push_back(e.slot);
+            ++n;
+        }
+    if (n == 0) return 0;
+    std::erase_if(heap_, mine);
+    std::make_heap(heap_.begin(), heap_.end(), later);
+    Channel& ch = *channels_[id];
+    ch.pending -= n;
+    ch.discarded.fetch_add(n, std::memory_order_relaxed);
+    if (space_waiters_ > 0) space_.notify_all();
+    return n;
+}
+
 LatenessHistogram SharedSender::lateness(ChannelId id) const {
     std::lock_guard lock(mutex_);
     return id < channels_.size() ? channels_[id]->stats : LatenessHistogram(config_.late_threshold);
@@ -138,6 +158,7 @@ ChannelCounters SharedSender::counters(ChannelId id) const {
     c.sent = ch->sent.load(std::memory_order_relaxed);
     c.failed = ch->failed.load(std::memory_order_relaxed);
     c.late = ch->late.load(std::memory_order_relaxed);
+    c.discarded = ch->discarded.load(std::memory_order_relaxed);
     c.worst = core::Nanos{ch->worst_ns.load(std::memory_order_relaxed)};
     return c;
 }

@@ -145,6 +145,8 @@ Exception ControlModel::handle(const Request& r, std::int64_t now_ns,
         else
             apply(a, r.values[i], now_ns);
     }
+    // Each sensor's faults published once, so its threads see the whole request or none of it.
+    for (std::size_t i = 0; i < cells_.size(); ++i) cells_[i]->store(faults_[i]);
     if (cmd) command(static_cast<Command>(*cmd), now_ns);
     return Exception::None;
 }
@@ -187,7 +189,6 @@ void ControlModel::apply(std::uint16_t a, std::uint16_t v, std::int64_t now_ns) 
             default:
                 break;
         }
-        cells_[s]->store(x);
     }
 }
 
@@ -300,9 +301,9 @@ RigState ControlModel::state() const {
     return state_;
 }
 
-std::uint16_t ControlModel::scenario() const {
+ControlModel::Order ControlModel::order() const {
     std::lock_guard lk(m_);
-    return loaded_;
+    return {state_, runs_, loaded_};
 }
 
 ErrorCode ControlModel::last_error() const {
@@ -324,13 +325,14 @@ void ControlModel::tick(std::int64_t now_ns) {
     last_error_ = ErrorCode::WatchdogExpired;
 }
 
-void ControlModel::run_ended() {
+void ControlModel::run_ended(std::uint64_t run) {
     std::lock_guard lk(m_);
-    if (state_ == RigState::Running) state_ = RigState::Stopped;
+    if (run == runs_ && state_ == RigState::Running) state_ = RigState::Stopped;
 }
 
-void ControlModel::fault(ErrorCode reason) {
+void ControlModel::fault(std::uint64_t run, ErrorCode reason) {
     std::lock_guard lk(m_);
+    if (run != runs_ || state_ != RigState::Running) return;
     state_ = RigState::Fault;
     last_error_ = reason;
 }

@@ -15,26 +15,25 @@ constexpr std::uint32_t kNoiseStream = 0xE0000000u;
 }  // namespace
 
 void FaultCell::store(const FaultSettings& f) {
-    const std::uint64_t n = std::uint64_t{f.drop_rate} | std::uint64_t{f.drop_burst} << 16 |
-                            std::uint64_t{static_cast<std::uint16_t>(f.range_bias_mm)} << 32 |
-                            std::uint64_t{f.range_noise_mm} << 48;
-    numbers_.store(n, std::memory_order_relaxed);
-    flags_.store(static_cast<std::uint8_t>((f.freeze_nav ? 1 : 0) | (f.stale_nav ? 2 : 0) |
-                                           (f.stop ? 4 : 0)),
-                 std::memory_order_relaxed);
+    const auto clamp = [](unsigned v, unsigned hi) { return std::uint64_t{std::min(v, hi)}; };
+    const std::uint64_t w = clamp(f.drop_rate, 10000) | clamp(f.drop_burst, 1000) << 14 |
+                            std::uint64_t{static_cast<std::uint16_t>(f.range_bias_mm)} << 24 |
+                            clamp(f.range_noise_mm, 10000) << 40 |
+                            std::uint64_t{f.freeze_nav} << 54 | std::uint64_t{f.stale_nav} << 55 |
+                            std::uint64_t{f.stop} << 56;
+    word_.store(w, std::memory_order_relaxed);
 }
 
 FaultSettings FaultCell::load() const {
-    const std::uint64_t n = numbers_.load(std::memory_order_relaxed);
-    const std::uint8_t fl = flags_.load(std::memory_order_relaxed);
+    const std::uint64_t w = word_.load(std::memory_order_relaxed);
     FaultSettings f;
-    f.drop_rate = static_cast<std::uint16_t>(n);
-    f.drop_burst = static_cast<std::uint16_t>(n >> 16);
-    f.range_bias_mm = static_cast<std::int16_t>(static_cast<std::uint16_t>(n >> 32));
-    f.range_noise_mm = static_cast<std::uint16_t>(n >> 48);
-    f.freeze_nav = fl & 1;
-    f.stale_nav = fl & 2;
-    f.stop = fl & 4;
+    f.drop_rate = static_cast<std::uint16_t>(w & 0x3FFF);
+    f.drop_burst = static_cast<std::uint16_t>(w >> 14 & 0x3FF);
+    f.range_bias_mm = static_cast<std::int16_t>(static_cast<std::uint16_t>(w >> 24));
+    f.range_noise_mm = static_cast<std::uint16_t>(w >> 40 & 0x3FFF);
+    f.freeze_nav = w >> 54 & 1;
+    f.stale_nav = w >> 55 & 1;
+    f.stop = w >> 56 & 1;
     return f;
 }
 

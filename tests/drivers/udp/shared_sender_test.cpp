@@ -270,6 +270,42 @@ TEST(SharedSender, packet_past_its_deadline_goes_out_at_once_and_counts_late) {
     EXPECT_EQ(d.payload, packet(1, 7));
 }
 
+// A stopped sensor's queue is dropped unsent; another channel's packets, interleaved in the
+// same heap, all go out in order, and a flush of the emptied channel returns at once.
+TEST(SharedSender, discard_drops_one_channels_queue_and_keeps_the_others) {
+    UdpReceiver rx_a, rx_b;
+    UdpSender tx_a(to(rx_a.port())), tx_b(to(rx_b.port()));
+    SharedSenderConfig cfg;
+    cfg.horizon = Nanos{5'000'000'000};
+    SharedSender ss(cfg);
+    const auto ca = ss.open(tx_a);
+    const auto cb = ss.open(tx_b);
+    const std::int64_t t0 = mirage::hostclock::monotonic_ns() + 200'000'000;
+    for (std::uint32_t k = 0; k < 30; ++k) {
+        ASSERT_TRUE(ss.submit(ca, Stream::Data, t0 + k * 1'000'000, packet(1, k)));
+        ASSERT_TRUE(ss.submit(cb, Stream::Data, t0 + k * 1'000'000 + 500'000, packet(2, k)));
+    }
+    EXPECT_EQ(ss.discard(ca), 30u);
+    EXPECT_EQ(ss.discard(ca), 0u);
+    const std::int64_t f0 = mirage::hostclock::monotonic_ns();
+    ss.flush(ca);
+    EXPECT_LT(mirage::hostclock::monotonic_ns() - f0, 100'000'000);  // nothing left to wait for
+    ss.flush(cb);
+    EXPECT_EQ(ss.counters(ca).sent, 0u);
+    EXPECT_EQ(ss.counters(ca).discarded, 30u);
+    EXPECT_EQ(ss.counters(cb).sent, 30u);
+    ReceivedDatagram d;
+    for (std::uint32_t k = 0; k < 30; ++k) {
+        ASSERT_TRUE(rx_b.receive(d, kTimeout)) << k;
+        EXPECT_EQ(d.payload, packet(2, k));
+    }
+    EXPECT_FALSE(rx_a.receive(d, std::chrono::milliseconds(50)));
+    // The freed slots serve new packets.
+    ASSERT_TRUE(ss.submit(ca, Stream::Data, mirage::hostclock::monotonic_ns(), packet(1, 99)));
+    ss.flush(ca);
+    EXPECT_EQ(ss.counters(ca).sent, 1u);
+}
+
 TEST(SharedSender, unknown_or_closed_channel_is_refused_without_throwing) {
     UdpReceiver rx;
     UdpSender tx(to(rx.port()));

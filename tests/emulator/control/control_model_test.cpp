@@ -64,6 +64,29 @@ TEST(ControlModel, ArmStartStopResetAndStartOnlyWhenArmed) {
     EXPECT_EQ(read1(m, Function::ReadHolding, hr::kCommand), 4);
 }
 
+// A run that finishes or fails after the controller stopped it and started the next one leaves
+// the next one running.
+TEST(ControlModel, AnOldRunsEndDoesNotEndTheNextRun) {
+    ControlModel m(two_sensors(), {}, 0);
+    cmd(m, Command::Arm);
+    cmd(m, Command::Start);
+    const std::uint64_t first = m.order().run;
+    EXPECT_EQ(first, 1u);
+    cmd(m, Command::Stop);
+    cmd(m, Command::Arm);
+    cmd(m, Command::Start);  // while run 1 still shuts down
+    EXPECT_EQ(m.order().run, 2u);
+    m.run_ended(first);
+    m.fault(first, ErrorCode::SensorFailed);
+    EXPECT_EQ(m.state(), RigState::Running);
+    EXPECT_EQ(m.last_error(), ErrorCode::None);
+    m.fault(2, ErrorCode::SensorFailed);  // the current run's failure counts
+    EXPECT_EQ(m.state(), RigState::Fault);
+    EXPECT_EQ(m.last_error(), ErrorCode::SensorFailed);
+    m.run_ended(2);  // and nothing leaves fault but reset
+    EXPECT_EQ(m.state(), RigState::Fault);
+}
+
 TEST(ControlModel, AWriteIsAppliedWholeOrNotAtAll) {
     ControlModel m(two_sensors(), {}, 0);
     std::array<std::uint16_t, 0> none{};
@@ -97,7 +120,7 @@ TEST(ControlModel, ScenarioIsSelectedBeforeTheArmInOneRequest) {
     EXPECT_EQ(m.handle(write(hr::kScenario, {3}), 0, none), Exception::IllegalValue);
     // Command and scenario in one write: the scenario lands first, the arm loads it.
     EXPECT_EQ(m.handle(write(hr::kCommand, {1, 2}), 0, none), Exception::None);
-    EXPECT_EQ(m.scenario(), 2);
+    EXPECT_EQ(m.order().scenario, 2);
     EXPECT_EQ(read1(m, Function::ReadInput, ir::kScenario), 2);
     EXPECT_EQ(m.handle(write(hr::kScenario, {1}), 0, none), Exception::ServerBusy);
     EXPECT_EQ(m.last_error(), ErrorCode::ScenarioWhileBusy);

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <thread>
 #include <vector>
 
 namespace mirage::control {
@@ -15,6 +17,33 @@ TEST(SensorFaults, CellRoundTripsEveryField) {
     FaultSettings f{10000, 1000, -32768, 10000, true, false, true};
     c.store(f);
     EXPECT_EQ(c.load(), f);
+    const FaultSettings g{1, 1, 32767, 1, false, true, false};
+    c.store(g);
+    EXPECT_EQ(c.load(), g);
+    c.store(FaultSettings{65535, 65535, 0, 65535, false, false, false});  // clamped, not wrapped
+    EXPECT_EQ(c.load(), (FaultSettings{10000, 1000, 0, 10000, false, false, false}));
+}
+
+// A reader on another thread sees one whole setting or the other, never fields of both.
+TEST(SensorFaults, CellNeverTearsBetweenTwoSettings) {
+    FaultCell c;
+    const FaultSettings a{10000, 1000, -32768, 10000, true, true, true};
+    const FaultSettings b{};
+    c.store(a);
+    std::atomic<bool> done{false};
+    std::thread writer([&] {
+        for (int i = 0; i < 200000; ++i) c.store(i % 2 ? a : b);
+        done = true;
+    });
+    std::uint64_t loads = 0, torn = 0;
+    while (!done.load()) {
+        const FaultSettings f = c.load();
+        torn += !(f == a || f == b);
+        ++loads;
+    }
+    writer.join();
+    EXPECT_GT(loads, 0u);
+    EXPECT_EQ(torn, 0u);
 }
 
 // Bursts start with chance p at a packet outside a burst and last b packets: the long-run

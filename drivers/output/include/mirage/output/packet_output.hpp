@@ -52,7 +52,8 @@ inline constexpr core::Nanos kEmulateRenderLead{300'000'000};
 
 struct PacketOutputTotals {
     std::uint64_t packets = 0, bytes = 0, sent = 0, send_failed = 0, pcap_packets = 0;
-    std::uint64_t late = 0;  // later than the pacer's threshold
+    std::uint64_t discarded = 0;  // queued, then dropped unsent (discard_queued)
+    std::uint64_t late = 0;       // later than the pacer's threshold
     core::Nanos worst_late{0}, p50{0}, p99{0};
     core::Nanos send_p50{0}, send_p99{0};  // duration of the send calls (shared sender only)
     double seconds = 0;                    // host time from the first packet to the last
@@ -84,6 +85,9 @@ class PacketOutput {
     // writing the capture failed at any point; the stream itself never stops for it.
     PacketOutputTotals finish();
     const PacketOutputOptions& options() const { return opt_; }
+    // Through a shared sender: drops the packets queued and not yet sent (a stopped sensor goes
+    // quiet at once instead of after its render lead); any thread. Returns how many.
+    std::uint64_t discard_queued() { return shared_ ? shared_->sender->discard(shared_->id) : 0; }
     // Through a shared sender: its channel's counters so far, from any thread (a rig's control
     // plane reads them while streaming); nullopt otherwise.
     std::optional<udp::ChannelCounters> channel_counters() const {

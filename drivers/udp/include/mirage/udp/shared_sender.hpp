@@ -43,6 +43,7 @@ struct SharedSenderConfig {
 // What one channel (a producer's destination) has seen so far; readable while streaming.
 struct ChannelCounters {
     std::uint64_t submitted = 0, sent = 0, failed = 0, late = 0;
+    std::uint64_t discarded = 0;  // queued, then dropped unsent by discard()
     core::Nanos worst{0};
 };
 
@@ -76,6 +77,9 @@ class SharedSender {
 
     // Waits until every packet submitted to `id` so far has been sent.
     void flush(ChannelId id);
+    // Drops the channel's queued packets unsent (a device switched off mid-stream) and returns
+    // how many; a packet already being sent still goes.
+    std::uint64_t discard(ChannelId id);
     // The channel's lateness histogram: call after flush() from the producer (the thread writes
     // it otherwise).
     LatenessHistogram lateness(ChannelId id) const;
@@ -117,7 +121,7 @@ class SharedSender {
         std::uint64_t pending = 0;  // submitted, not yet sent (under mutex_)
         LatenessHistogram stats;
         LatenessHistogram send_ns;  // duration of each send call
-        std::atomic<std::uint64_t> submitted{0}, sent{0}, failed{0}, late{0};
+        std::atomic<std::uint64_t> submitted{0}, sent{0}, failed{0}, late{0}, discarded{0};
         std::atomic<std::int64_t> worst_ns{0};
         explicit Channel(core::Nanos threshold) : stats(threshold) {}
     };

@@ -55,13 +55,20 @@ class ControlModel {
     void count_refused();
     void set_status(RigStatus s);
 
-    // The rig's side.
+    // The rig's side. Each start is a new run, numbered from 1; a run's end or failure applies
+    // only while that run is still the one running, so a stop-arm-start issued while the previous
+    // run shuts down is not undone when it finishes.
+    struct Order {
+        RigState state = RigState::Idle;
+        std::uint64_t run = 0;       // the latest start
+        std::uint16_t scenario = 0;  // the one the last arm loaded
+    };
+    Order order() const;
     RigState state() const;
-    std::uint16_t scenario() const;  // the one the last arm loaded
     // The watchdog: in armed or running, no heartbeat for the timeout -> fault (safe state).
     void tick(std::int64_t now_ns);
-    void run_ended();              // running -> stopped (duration over)
-    void fault(ErrorCode reason);  // any -> fault
+    void run_ended(std::uint64_t run);                // running -> stopped (duration over)
+    void fault(std::uint64_t run, ErrorCode reason);  // running -> fault
     const FaultCell& faults(std::size_t sensor) const { return *cells_[sensor]; }
     ErrorCode last_error() const;
     std::uint64_t runs() const;

@@ -23,15 +23,17 @@ struct FaultSettings {
     bool operator==(const FaultSettings&) const = default;
 };
 
-// One sensor's faults, written by one thread and read by others without tearing a field.
+// One sensor's faults, written by one thread and read by others as one consistent set: all
+// fields packed into one 64-bit word (rate 14 bits, burst 10, bias 16, noise 14, 3 flags), so a
+// reader never sees half of a request's changes. Fields beyond their ranges (docs/control.md §2)
+// are clamped.
 class FaultCell {
   public:
     void store(const FaultSettings& f);
     FaultSettings load() const;
 
   private:
-    std::atomic<std::uint64_t> numbers_{std::uint64_t{1} << 16};  // burst 1
-    std::atomic<std::uint8_t> flags_{0};
+    std::atomic<std::uint64_t> word_{std::uint64_t{1} << 14};  // burst 1
 };
 
 // Decides which packets a burst drops, in packet order (one sensor's send path).
