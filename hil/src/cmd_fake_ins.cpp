@@ -85,6 +85,11 @@ std::string link_of(const std::string& to, const std::string& kind) {
 void make_link(const std::string& link, const std::string& target) {
     if (link.empty()) return;
     std::error_code ec;
+    // Replaces a link left by an earlier run, never a file or device the path happens to name.
+    const auto st = std::filesystem::symlink_status(link, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_symlink(st))
+        throw IoError("fake-ins: cannot create link '" + link +
+                      "': something other than a link is there");
     std::filesystem::remove(link, ec);
     std::filesystem::create_symlink(target, link, ec);
     if (ec) throw IoError("fake-ins: cannot create link '" + link + "': " + ec.message());

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "mirage/core/error.hpp"
+#include "mirage/core/output_file.hpp"
 
 namespace mirage::image {
 namespace {
@@ -98,7 +99,7 @@ void write_png(const std::string& path, const RgbImage& image) {
         why = std::strerror(errno);
     }
     if (!ok) {
-        std::remove(path.c_str());
+        core::remove_failed_output(path);
         throw IoError(prefix + why);
     }
 }

@@ -19,6 +19,7 @@
 #include "las_layout.hpp"
 #include "las_vlrs.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/core/output_file.hpp"
 #include "mirage/core/rounding.hpp"
 #include "mirage/core/time.hpp"
 #include "signal_registry.hpp"
@@ -187,14 +188,14 @@ void LasWriter::Impl::open(const std::string& p, const core::Georef& georef, Las
         } catch (const IoError&) {
             ::close(fd);
             fd = -1;
-            ::unlink(path.c_str());
+            core::remove_failed_output(path);
             throw;
         }
     }
     if (err != 0) {
         ::close(fd);
         fd = -1;
-        ::unlink(path.c_str());
+        core::remove_failed_output(path);
         throw IoError(prefix() + "cannot write header: " + std::strerror(err));
     }
 }

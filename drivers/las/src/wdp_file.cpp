@@ -10,6 +10,7 @@
 
 #include "las_layout.hpp"
 #include "mirage/core/error.hpp"
+#include "mirage/core/output_file.hpp"
 
 namespace mirage::las {
 namespace {
@@ -54,7 +55,7 @@ WdpFile::WdpFile(const std::string& las_path) : path_(path_for(las_path)) {
     const auto h = evlr_header(0);
     if (const int err = pwrite_all(fd_, h.data(), h.size(), 0); err != 0) {
         ::close(fd_);
-        ::unlink(path_.c_str());
+        core::remove_failed_output(path_);
         throw IoError("las writer '" + path_ + "': cannot write: " + std::strerror(err));
     }
     end_ = kEvlrHeaderSize;
@@ -94,7 +95,7 @@ int WdpFile::copy_to(int fd, off_t pos) const noexcept {
 void WdpFile::remove() noexcept {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
-    ::unlink(path_.c_str());
+    core::remove_failed_output(path_);
 }
 
 }  // namespace mirage::las

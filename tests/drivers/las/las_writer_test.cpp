@@ -373,5 +373,20 @@ TEST(LasWriter, header_on_disk_matches_each_flush) {
     EXPECT_EQ(LasFile::read(path).header().point_count, 250u);
 }
 
+// A header that cannot be written fails naming the file; a failed regular file is removed, a
+// device never (the writer once deleted /dev/full itself).
+TEST(LasWriter, a_failed_header_never_removes_a_device) {
+    if (!std::filesystem::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    try {
+        LasWriter w("/dev/full", core::Georef(), {});
+        FAIL() << "wrote a header to /dev/full";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("'/dev/full': cannot write header"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_TRUE(std::filesystem::is_character_file("/dev/full"));
+}
+
 }  // namespace
 }  // namespace mirage::las
