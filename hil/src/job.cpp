@@ -226,6 +226,23 @@ std::shared_ptr<const scene::Scene> load_scene_timed(const std::string& spec, do
     return s;
 }
 
+namespace {
+
+// Every trajectory sample's sensor position within core::kLocalRangeM of the scene's anchor.
+void check_anchor_range(const Job& job) {
+    for (const core::StampedPose& s : job.trajectory.samples()) {
+        const Eigen::Vector3d p = (s.pose * job.mount.as_pose()).position;
+        if (p.cwiseAbs().maxCoeff() < core::kLocalRangeM) continue;  // false for NaN too
+        throw ConfigError(fmt::format(
+            "trajectory: the sensor at ({:.1f}, {:.1f}, {:.1f}) m from the scene's anchor is "
+            "beyond ±{:.0f} m on an axis, where float32 steps exceed 1 mm (docs/conventions.md "
+            "§3): a trajectory in another frame than the scene's?",
+            p.x(), p.y(), p.z(), core::kLocalRangeM));
+    }
+}
+
+}  // namespace
+
 Job load_job(const JobInputs& in, bool build_renderer) {
     double seconds = 0;
     auto scene = load_scene_timed(in.scene, seconds);  // before reading `seconds`
@@ -308,6 +325,7 @@ Job load_job_with_scene(const JobInputs& in, std::shared_ptr<const scene::Scene>
     if (in.boresight.size() == 3)
         job.mount.boresight = core::quaternion_from_rpy(
             in.boresight[0] * kDeg, in.boresight[1] * kDeg, in.boresight[2] * kDeg);
+    check_anchor_range(job);
     job.env.atmosphere.extinction_per_m =
         in.extinction_per_km >= 0 ? in.extinction_per_km / 1000.0
                                   : physics::Atmosphere::extinction_from_visibility(

@@ -29,6 +29,14 @@ std::vector<Command> commands(const TempDir& tmp) {
     const std::string junk = tmp.file("junk.bin");
     std::ofstream(junk) << "not a capture, not a LAS file";
     const std::string las = tmp.file("a.las");
+    // A sensor 20 km from its scene's anchor: another frame than the scene's (exit 2).
+    const std::string plane = tmp.file("plane.yaml"), far_rig = tmp.file("far.yaml");
+    std::ofstream(plane) << "materials:\n  m: {reflectance: 0.5}\nobjects:\n"
+                            "  - {type: plane, material: m, size: [80, 80]}\n";
+    std::ofstream(far_rig)
+        << "scene: plane.yaml\nnavigation: {trajectory: 'static:0,20000,2'}\n"
+           "duration: 1\nsensors:\n"
+           "  - {name: far, sensor: vlp16, to: 127.0.0.1, ports: {data: 2368}}\n";
     return {
         {"render",
          {{"--out " + las + " --bogus", 2, "--bogus"},
@@ -56,10 +64,13 @@ std::vector<Command> commands(const TempDir& tmp) {
          {{"--bogus", 2, "--bogus"},
           {"--sensor vlp16 --rpm abc --pcap x.pcap", 2, "--rpm"},
           {"--sensor als-mirror --pose 0,0,1 --pcap x.pcap", 2, "als-mirror"},
+          {"--scene " + plane + " --sensor vlp16 --pose 0,20000,2 --pcap x.pcap", 2,
+           "from the scene's anchor"},
           {"--sensor vlp16 --pose 0,0,1 --duration 0.05 --as-fast-as-possible --pcap "
            "/dev/null/x.pcap",
            1, "/dev/null/x.pcap"}}},
         {"stream-bench", {{"--bogus", 2, "--bogus"}, {"--seconds abc", 2, "--seconds"}}},
+        {"rig", {{"--bogus " + far_rig, 2, "--bogus"}, {far_rig, 2, "sensors[0] ('far'"}}},
         {"live",
          {{"--nav nmea:/dev/null/x --sensor vlp16 --bogus", 2, "--bogus"},
           {"--nav bogus:x --sensor vlp16", 2, "bogus"},

@@ -134,7 +134,8 @@ TEST(NavRules, live_and_resimulation_accept_the_same_samples_of_a_faulty_log) {
     // The same counters, named the same, from all three; and the numbers the faults make.
     const std::string want =
         "nav samples 126 applied 62, decode rejected 2 (bad checksum 1, truncated 0, invalid 1), "
-        "pose rejected 3 (time backwards 2, jumps 1, not finite 0), without time 30, without "
+        "pose rejected 3 (time backwards 2, jumps 1, not finite 0, outside the scene 0), without "
+        "time 30, without "
         "pose 31, duplicates 0, re-initialisations 0";
     EXPECT_EQ(counters_line(live.output), want) << live.output;
     EXPECT_EQ(counters_line(resim.output), want) << resim.output;

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "mirage/core/georef.hpp"
+
 namespace mirage::navpose {
 namespace {
 
@@ -58,6 +60,10 @@ std::optional<PositionUpdate> NavMapper::map_position(const nav::NavSample& s, M
     u.tag = tag;
     const double h = s.height_m + (s.has(F::kHeightIsMsl) ? cfg_.undulation_m : 0.0);
     u.local = frame_.local_from_geodetic(s.lat_deg, s.lon_deg, h);
+    if (!(u.local.cwiseAbs().maxCoeff() < core::kLocalRangeM)) {  // another frame than the scene's
+        ++counters_.outside_scene;
+        return std::nullopt;
+    }
     if (s.has(F::kVelocity))
         u.velocity = frame_.local_velocity(s.velocity_ned_mps, s.lat_deg, s.lon_deg);
     const GateVerdict v = gate_.position(u.t, u.local, u.velocity);

@@ -123,7 +123,8 @@ TEST(NavMapper, counts_every_sample_in_one_place_and_refuses_bad_ones_whole) {
     EXPECT_EQ(c.rejected(), 4u);
     EXPECT_EQ(navpose::nav_counters_line({}, c),
               "nav samples 9 applied 2, decode rejected 0 (bad checksum 0, truncated 0, invalid "
-              "0), pose rejected 4 (time backwards 1, jumps 1, not finite 2), without time 1, "
+              "0), pose rejected 4 (time backwards 1, jumps 1, not finite 2, outside the scene 0), "
+              "without time 1, "
               "without pose 1, duplicates 1, re-initialisations 0");
 }
 
@@ -147,7 +148,9 @@ TEST(NavMapper, msl_heights_get_the_undulation_and_the_tag_travels_with_the_upda
 TEST(NavMapper, attitudes_use_the_convergence_at_the_newest_fix) {
     // 1° east of the central meridian at 45.1° N, grid north is ~0.71° east of true north: a
     // true heading of 90° is a grid bearing of ~89.29°, i.e. ENU yaw ~0.71°.
-    NavMapper m(utm());
+    // The scene anchored there (a position 79 km from the anchor would be outside the scene).
+    NavMapper m(navpose::NavFrame::from_georef(
+        core::Georef::projected(32632, {578800.0, 4995000.0, 0.0})));
     ASSERT_TRUE(m.map(fix(0, 45.1, 10.0, 100)).position);
     const auto u = m.map(attitude(0, 0, 0, 90 * kDeg));
     ASSERT_TRUE(u.attitude);
@@ -172,4 +175,23 @@ TEST(NavMapper, a_heading_alone_takes_the_last_roll_and_pitch_or_level) {
     const Eigen::Quaterniond want = utm().local_attitude(2 * kDeg, -3 * kDeg, 50 * kDeg, 45.1, 9.0);
     EXPECT_LT(u.attitude->attitude.angularDistance(want), 1e-6);
     EXPECT_EQ(m.counters().applied, 3u);
+}
+
+// A position 16 384 m or more from the anchor on any axis is another frame than the scene's:
+// refused and counted, before the gate sees it (docs/conventions.md §3).
+TEST(NavMapper, positions_beyond_the_scene_range_are_refused_as_outside_the_scene) {
+    NavMapper m(utm());
+    const double lat0 = 45.1535;  // about the anchor (UTM 32N 500000 E, 5000000 N)
+    const auto north = m.map(fix(0, lat0 + 0.1, 9.0, 100));  // ~11 km north: inside
+    ASSERT_TRUE(north.position);
+    EXPECT_NEAR(north.position->local.y(), 11100, 200);
+    EXPECT_FALSE(m.map(fix(100, lat0 + 0.2, 9.0, 100)).position);    // ~22 km north
+    EXPECT_FALSE(m.map(fix(200, lat0 + 0.1, 9.0, 20000)).position);  // 20 km up
+    EXPECT_FALSE(m.map(fix(300, lat0, 9.0 + 0.3, 100)).position);    // ~24 km east
+    EXPECT_TRUE(m.map(fix(400, lat0 + 0.1, 9.0, 100.5)).position);   // the track goes on
+    const navpose::NavCounters& c = m.counters();
+    EXPECT_EQ(c.outside_scene, 3u);
+    EXPECT_EQ(c.rejected(), 3u);
+    EXPECT_EQ(c.position_jumps, 0u);
+    EXPECT_EQ(c.applied, 2u);
 }

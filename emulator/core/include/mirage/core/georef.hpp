@@ -7,6 +7,12 @@
 
 namespace mirage::core {
 
+// How far from the anchor, per axis, a sensor may be: Embree's float32 coordinates step by more
+// than 1 mm beyond 2^14 m, and 1 mm is the finest range unit any encoder writes (Ouster); a
+// sensor further out is almost always a trajectory or INS in another frame than the scene's
+// (docs/conventions.md §3).
+inline constexpr double kLocalRangeM = 16384;
+
 // Georeference of a scene: a double-precision anchor in a projected or geocentric CRS (EPSG).
 // Geometry and poses are float32/double *relative to the anchor* ("local" frame, metres,
 // x = grid east, y = grid north, z = up), which keeps float32 geometry within ~1 km of zero

@@ -22,9 +22,12 @@ struct NavCounters {
     std::uint64_t position_jumps = 0;  // positions beyond --max-jump-m of the prediction
     std::uint64_t reinitialisations = 0;  // the tenth jump in a row: applied as a new track
     std::uint64_t duplicates = 0;         // track updates at their track's newest time: ignored
+    std::uint64_t outside_scene = 0;  // positions beyond core::kLocalRangeM of the scene's anchor
 
     // Rejected and never applied.
-    std::uint64_t rejected() const { return not_finite + time_backwards + position_jumps; }
+    std::uint64_t rejected() const {
+        return not_finite + time_backwards + position_jumps + outside_scene;
+    }
 };
 
 // One line, the same wherever navigation is read: "nav samples 120 applied 110, decode

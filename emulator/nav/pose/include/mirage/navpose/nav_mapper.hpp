@@ -27,6 +27,7 @@ struct TrackUpdates {
 //  1. without a full time: counted no_time; without position, attitude or heading: no_pose;
 //  2. NaN/Inf in any field it claims (or latitude beyond ±90°): not_finite, the whole sample;
 //  3. position: height + undulation when above MSL, WGS84 -> scene frame, velocity NED -> local;
+//     beyond core::kLocalRangeM of the anchor on an axis: outside_scene, the position refused;
 //  4. attitude: NED Euler -> scene frame, with the meridian convergence at the newest position
 //     (the frame's origin before any); a heading-only message (HDT, PTNL,AVR) takes the roll
 //     and pitch of the newest attitude applied, or level before any;
