@@ -135,7 +135,6 @@ void run_controlled_rig(const rig::RigConfig& config, const RigControlOptions& o
         config.control.rtu.empty() ? "off" : config.control.rtu.c_str());
     const auto& sig = install_stop_signal();
     std::unique_ptr<ActiveRun> run;
-    std::uint64_t last_run = 0;
     const auto finish = [&] {
         run->thread.join();
         if (!run->error.empty())
@@ -157,8 +156,7 @@ void run_controlled_rig(const rig::RigConfig& config, const RigControlOptions& o
             finish();
         } else if (run && run->done.load()) {
             finish();
-        } else if (!run && wanted && order.run != last_run) {
-            last_run = order.run;
+        } else if (!run && wanted) {  // a finished run is stopped or faulted: never restarted
             run = std::make_unique<ActiveRun>();
             run->id = order.run;
             start_run(*run, config, base, order.scenario, o, model, view);

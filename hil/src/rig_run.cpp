@@ -54,7 +54,7 @@ void send(RigRun& r, const wire::PacketView& p) {
         r.withheld.fetch_add(1, std::memory_order_relaxed);
         return;
     }
-    r.quiet.store(false, std::memory_order_relaxed);
+    if (r.quiet.load(std::memory_order_relaxed)) r.quiet.store(false, std::memory_order_relaxed);
     if (r.dropper->drop(f)) {
         r.dropped.fetch_add(1, std::memory_order_relaxed);
         return;
