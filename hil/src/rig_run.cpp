@@ -433,11 +433,19 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
     lo.duration = plan.live_duration_ns;
     // Without first_nav_timeout the sensors stream without returns on the host's clock until the
     // first full pose (docs/rig.md §2); with it, nothing is sent until then.
-    if (c.first_nav_timeout_s > 0) {
-        if (!wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop, "rig")) return;
-    } else if (!await_first_pose(poses, stop, kFirstPoseSettleS) && !stop.load()) {
-        if (!stream_rig_before_first_pose(plan, o, sender, nav, poses, lo, runs)) return;
+    const bool give_up = c.first_nav_timeout_s > 0;
+    bool have_pose = false;
+    {
+        Published waiting(o.view, runs, &nav, &poses);  // navigation counters while nothing runs
+        have_pose =
+            give_up
+                ? wait_first_pose(poses, nav, c.nav, c.first_nav_timeout_s, stop, "rig").has_value()
+                : await_first_pose(poses, stop, kFirstPoseSettleS);
     }
+    if (give_up && !have_pose) return;
+    if (!give_up && !have_pose && !stop.load() &&
+        !stream_rig_before_first_pose(plan, o, sender, nav, poses, lo, runs))
+        return;
     const std::int64_t t0 = live_pulse0_ns(nav);
     // One sensor clock: every output anchored with the same INS-to-host offset.
     const std::int64_t anchor = t0 + nav.offset_ns().value_or(0) + kLivePipelineDelay.count();

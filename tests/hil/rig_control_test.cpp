@@ -409,6 +409,49 @@ TEST(RigControl, a_sensor_failing_while_running_faults_the_rig) {
     EXPECT_EQ(info.exit_code, 0) << info.output;
 }
 
+// While a live rig waits for its first pose (first_nav_timeout), the controller already reads
+// the navigation counters: junk datagrams on the DIS port show as rejected.
+TEST(RigControl, navigation_counters_read_while_waiting_for_the_first_pose) {
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    Receiver rx;
+    {
+        std::ofstream(tmp.file("rig.yaml"))
+            << "scene: yard.yaml\n"
+               "navigation: {nav: 'dis:udp://127.0.0.1:0?entity=1.1.1', first_nav_timeout: 30}\n"
+               "control: {tcp: '127.0.0.1:0'}\n"
+               "sensors:\n"
+               "  - {name: roof, sensor: vlp16, to: 127.0.0.1, ports: {data: "
+            << rx.port() << "}}\n";
+    }
+    RigProcess rig(tmp.file("rig.yaml"));
+    ASSERT_GT(rig.port, 0) << rig.b.output;
+    ModbusClient mb(rig.port);
+    ASSERT_EQ(mb.write(0, 1), 1);
+    ASSERT_EQ(mb.write(0, 2), 1);
+    std::smatch m;
+    const std::string l = rig.b.wait_for(std::regex("udp port [0-9]+"), 10);
+    ASSERT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << rig.b.output;
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(std::uint16_t(std::stoi(m[1].str())));
+    ::inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+    const std::uint8_t junk[] = {7, 1, 1, 1, 0, 0, 0, 0, 0, 12};
+    for (int i = 0; i < 5; ++i)
+        ::sendto(fd, junk, sizeof junk, 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    ::close(fd);
+    std::uint32_t rejected = 0;
+    EXPECT_TRUE(eventually([&] { return (rejected = mb.in32(32)) >= 5; }));
+    std::printf(
+        "[ rig waiting ] nav rejected %u while waiting for the first pose; state %u; "
+        "packets %zu\n",
+        rejected, mb.in(8), rx.count());
+    EXPECT_EQ(mb.in(8), 2);     // running, waiting
+    EXPECT_EQ(rx.count(), 0u);  // first_nav_timeout: nothing sent before the first pose
+    EXPECT_EQ(rig.interrupt(), 0) << rig.b.output;
+}
+
 bool have(const char* tool) {
     return std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) == 0;
 }
