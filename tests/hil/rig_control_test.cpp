@@ -199,6 +199,27 @@ constexpr int kLeft = 0, kRear = 1;
 int sensor_in(int s, int off) { return 100 + 20 * s + off; }
 int fault_hr(int s, int off) { return 100 + 10 * s + off; }
 
+// A controlled rig of one VLP-16 on a DIS entity; `nav_keys`: more `navigation` keys.
+std::string dis_rig(std::uint16_t data, const std::string& nav_keys) {
+    return "scene: yard.yaml\n"
+           "navigation: {nav: 'dis:udp://127.0.0.1:0?entity=1.1.1', " +
+           nav_keys +
+           "}\n"
+           "control: {tcp: '127.0.0.1:0'}\n"
+           "sensors:\n"
+           "  - {name: roof, sensor: vlp16, to: 127.0.0.1, ports: {data: " +
+           std::to_string(data) + "}}\n";
+}
+
+// Arms and starts the rig; the UDP port its DIS reader listens on (0 when none was printed).
+int arm_start_dis(RigProcess& rig, ModbusClient& mb) {
+    EXPECT_EQ(mb.write(0, 1), 1);
+    EXPECT_EQ(mb.write(0, 2), 1);
+    std::smatch m;
+    const std::string l = rig.b.wait_for(std::regex("udp port [0-9]+"), 10);
+    return std::regex_search(l, m, std::regex("udp port ([0-9]+)")) ? std::stoi(m[1].str()) : 0;
+}
+
 TEST(RigControl, a_controller_arms_starts_faults_reads_and_stops_a_running_rig) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
@@ -415,27 +436,16 @@ TEST(RigControl, navigation_counters_read_while_waiting_for_the_first_pose) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
     Receiver rx;
-    {
-        std::ofstream(tmp.file("rig.yaml"))
-            << "scene: yard.yaml\n"
-               "navigation: {nav: 'dis:udp://127.0.0.1:0?entity=1.1.1', first_nav_timeout: 30}\n"
-               "control: {tcp: '127.0.0.1:0'}\n"
-               "sensors:\n"
-               "  - {name: roof, sensor: vlp16, to: 127.0.0.1, ports: {data: "
-            << rx.port() << "}}\n";
-    }
+    { std::ofstream(tmp.file("rig.yaml")) << dis_rig(rx.port(), "first_nav_timeout: 30"); }
     RigProcess rig(tmp.file("rig.yaml"));
     ASSERT_GT(rig.port, 0) << rig.b.output;
     ModbusClient mb(rig.port);
-    ASSERT_EQ(mb.write(0, 1), 1);
-    ASSERT_EQ(mb.write(0, 2), 1);
-    std::smatch m;
-    const std::string l = rig.b.wait_for(std::regex("udp port [0-9]+"), 10);
-    ASSERT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << rig.b.output;
+    const int dis_port = arm_start_dis(rig, mb);
+    ASSERT_GT(dis_port, 0) << rig.b.output;
     const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
     sockaddr_in a{};
     a.sin_family = AF_INET;
-    a.sin_port = htons(std::uint16_t(std::stoi(m[1].str())));
+    a.sin_port = htons(std::uint16_t(dis_port));
     ::inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
     const std::uint8_t junk[] = {7, 1, 1, 1, 0, 0, 0, 0, 0, 12};
     for (int i = 0; i < 5; ++i)
@@ -542,27 +552,15 @@ TEST(RigControl, frozen_and_stale_navigation_on_a_live_rig) {
     write_trajectory(tmp.file("circle.csv"));
     const core::Trajectory truth = circle_truth(tmp.file("circle.csv"));
     Receiver rx;
-    {
-        std::ofstream(tmp.file("rig.yaml"))
-            << "scene: yard.yaml\n"
-               "navigation: {nav: 'dis:udp://127.0.0.1:0?entity=1.1.1', max_extrapolation_ms: "
-               "150}\n"
-               "control: {tcp: '127.0.0.1:0'}\n"
-               "sensors:\n"
-               "  - {name: roof, sensor: vlp16, to: 127.0.0.1, ports: {data: "
-            << rx.port() << "}}\n";
-    }
+    { std::ofstream(tmp.file("rig.yaml")) << dis_rig(rx.port(), "max_extrapolation_ms: 150"); }
     RigProcess rig(tmp.file("rig.yaml"));
     ASSERT_GT(rig.port, 0) << rig.b.output;
     ModbusClient mb(rig.port);
-    ASSERT_EQ(mb.write(0, 1), 1);
-    ASSERT_EQ(mb.write(0, 2), 1);
-    std::smatch m;
-    const std::string l = rig.b.wait_for(std::regex("udp port [0-9]+"));
-    ASSERT_TRUE(std::regex_search(l, m, std::regex("udp port ([0-9]+)"))) << rig.b.output;
+    const int dis_port = arm_start_dis(rig, mb);
+    ASSERT_GT(dis_port, 0) << rig.b.output;
     BackgroundMirage fake = start_mirage(
         "fake-ins --scene " + tmp.file("yard.yaml") + " --trajectory " + tmp.file("circle.csv") +
-        " --protocol dis --duration 10 --to udp://127.0.0.1:" + m[1].str());
+        " --protocol dis --duration 10 --to udp://127.0.0.1:" + std::to_string(dis_port));
     const core::GpsTime t0 = parse_t0(fake.wait_for(std::regex("t0 gps:")));
     ASSERT_FALSE(rig.b.wait_for(std::regex("pulse 0 at gps")).empty()) << rig.b.output;
     const std::size_t live_from = rx.count();
