@@ -151,8 +151,7 @@ void run_controlled_rig(const rig::RigConfig& config, const RigControlOptions& o
         // Stop, reset, the watchdog's safe state, a newer start, or a failed sensor (the rest of
         // the rig stops with it: fault is the safe state) end the run; so does its own end.
         if (run && (!wanted || run->id != order.run || view.sensor_failed())) {
-            run->stop = true;
-            view.discard_queued();  // quiet now, not after the render lead (docs/control.md §4)
+            run->stop = true;  // each sensor drops its queue at its next packet (rig_run.cpp send)
             finish();
         } else if (run && run->done.load()) {
             finish();

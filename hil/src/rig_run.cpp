@@ -333,12 +333,6 @@ void RigView::publish(std::vector<std::unique_ptr<RigRun>>* runs, const navio::N
     applied_at_ = rate_ = 0;
 }
 
-void RigView::discard_queued() {
-    std::lock_guard lk(m_);
-    if (runs_)
-        for (const auto& r : *runs_) r->out->discard_queued();
-}
-
 bool RigView::sensor_failed() const {
     std::lock_guard lk(m_);
     if (!runs_) return false;

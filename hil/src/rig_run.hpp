@@ -53,7 +53,6 @@ class RigView {
     void clear() { publish(nullptr, nullptr, nullptr); }
     control::RigStatus status() const;
     bool sensor_failed() const;  // a sensor of the published run has failed
-    void discard_queued();       // every sensor's packets queued with the sender, dropped
 
   private:
     mutable std::mutex m_;
