@@ -25,6 +25,7 @@
 #include "job.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/hostclock/host_clock.hpp"
+#include "mirage/hostclock/keep_awake.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "mirage/output/packetizer_sink.hpp"
 #include "mirage/rig/rig_config.hpp"
@@ -328,7 +329,7 @@ StreamRow summarize_stream(const StreamRun& r, double seconds) {
 StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, double seconds_scene,
                           const std::vector<StreamSpec>& specs, const std::string& seconds,
                           int render_threads, std::size_t chunk_pulses, int fifo_priority,
-                          bool shared, int spin_margin_us) {
+                          bool shared, int spin_margin_us, const hostclock::KeepAwake* awake) {
     StreamsResult res;
     res.fifo_priority = fifo_priority;
     res.shared = shared;
@@ -338,6 +339,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         udp::SharedSenderConfig sc;
         sc.fifo_priority = fifo_priority;  // the writer threads stay SCHED_OTHER
         sc.spin_margin = core::Nanos{std::int64_t{spin_margin_us} * 1'000};
+        if (awake && !awake->cpus().empty()) sc.cpu = awake->cpus().front();
         sender = std::make_shared<udp::SharedSender>(sc);
         res.spin_margin_us = spin_margin_us;
         res.horizon_ms = static_cast<double>(sc.horizon.count()) / 1e6;
@@ -397,7 +399,11 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
             pthread_setname_np(pthread_self(), "mirage-rx");
             receive_loop(*r, rt_minus_mono, done);
         });
-    const double cpu0 = hostclock::process_cpu_seconds();
+    // The CPU the streams use: the process's, less what --keep-awake's spinners took.
+    const auto cpu_now = [awake] {
+        return hostclock::process_cpu_seconds() - (awake ? awake->cpu_seconds() : 0.0);
+    };
+    const double cpu0 = cpu_now();
     const auto w0 = std::chrono::steady_clock::now();
     for (auto& r : runs)
         senders.emplace_back([&r] {
@@ -412,7 +418,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         });
     for (auto& t : senders) t.join();
     res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    res.cpu_s = hostclock::process_cpu_seconds() - cpu0;
+    res.cpu_s = cpu_now() - cpu0;
     done.store(true, std::memory_order_release);
     for (auto& t : receivers) t.join();
     for (const auto& r : runs) res.rows.push_back(summarize_stream(*r, secs));
@@ -458,13 +464,20 @@ ProbeRow run_probe(double seconds, int fifo_priority) {
     return row;
 }
 
-// The floor: spin on the clock for `seconds` now; the gaps are added to `gaps`.
-void spin_floor(double seconds, std::vector<Gap>& gaps, std::int64_t& span) {
-    const std::int64_t start = hostclock::monotonic_ns() + 1'000'000;
-    const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
-    const std::vector<Gap> g = spin_gaps(start, end);
-    gaps.insert(gaps.end(), g.begin(), g.end());
-    span += end - start;
+// The floor: spin on the clock for `seconds` now (on `cpu` when >= 0); the gaps are added to
+// `gaps`.
+void spin_floor(double seconds, std::vector<Gap>& gaps, std::int64_t& span, int cpu) {
+    std::thread([&] {
+        pthread_setname_np(pthread_self(), "mirage-floor");
+        std::string why;
+        if (cpu >= 0 && !hostclock::pin_current_thread(cpu, why))
+            std::fprintf(stderr, "stream-bench: floor not pinned to %s\n", why.c_str());
+        const std::int64_t start = hostclock::monotonic_ns() + 1'000'000;
+        const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
+        const std::vector<Gap> g = spin_gaps(start, end);
+        gaps.insert(gaps.end(), g.begin(), g.end());
+        span += end - start;
+    }).join();
 }
 
 Floor summarize_floor(const std::vector<Gap>& gaps, std::int64_t span) {
@@ -511,7 +524,7 @@ void register_stream_bench(CLI::App& app) {
         std::string probe_seconds;  // empty: as --seconds
         std::string rig;            // a rig file's sensors instead of the three cases
         double floor_seconds = 10;  // the spinning thread's, around the streams
-        bool quick = false;
+        bool quick = false, keep_awake = false;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("--seconds", o->seconds,
@@ -552,9 +565,13 @@ void register_stream_bench(CLI::App& app) {
         ->check(CLI::ExistingFile);
     cmd->add_option("--floor-seconds", o->floor_seconds,
                     "The machine's floor: a thread spinning on the clock, half this long just "
-                    "before the streams and half just after (0: none; --quick: 1)")
+                    "before the streams and half just after (0: none; --quick: 1; with "
+                    "--keep-awake a quarter each with and without the spinners)")
         ->check(CLI::Range(0.0, 600.0))
         ->capture_default_str();
+    cmd->add_flag("--keep-awake", o->keep_awake,
+                  "Keep the CPUs out of idle with SCHED_IDLE spinners during the floor and the "
+                  "streams (as emulate/rig --keep-awake; docs/time.md §5)");
     cmd->add_flag("--quick", o->quick, "Short run for CI: 3 s streams, short encoder runs");
     cmd->callback([o] {
         Report rep;
@@ -604,17 +621,36 @@ void register_stream_bench(CLI::App& app) {
         std::printf("streaming %s s: %zu sensors at once%s...\n", rep.seconds.c_str(), specs.size(),
                     rig_config ? (" (rig " + o->rig + ")").c_str() : "");
         std::fflush(stdout);
-        // The floor in the same run: half just before the streams, half just after.
+        // The floor in the same run: half just before the streams, half just after. With
+        // --keep-awake, as the streams see the machine (spinners on) and as it is (off), a
+        // quarter each, off on the outside: the targets take the stricter.
         const double floor_s = o->quick ? 1.0 : o->floor_seconds;
-        std::vector<Gap> floor_gaps;
-        std::int64_t floor_span = 0;
-        if (floor_s > 0) spin_floor(floor_s / 2, floor_gaps, floor_span);
+        const double part_s = o->keep_awake ? floor_s / 4 : floor_s / 2;
+        if (o->keep_awake && o->sender != "shared")
+            throw ConfigError("stream-bench: --keep-awake needs --sender shared");
+        // Like for like: the floor spins where the sender runs (the CPU kept awake).
+        const int cpu = o->keep_awake ? hostclock::sending_cpu() : -1;
+        std::vector<Gap> floor_gaps, plain_gaps;
+        std::int64_t floor_span = 0, plain_span = 0;
+        if (floor_s > 0 && o->keep_awake) spin_floor(part_s, plain_gaps, plain_span, cpu);
+        std::optional<hostclock::KeepAwake> awake;
+        if (o->keep_awake) awake.emplace(std::vector<int>{cpu});
+        if (floor_s > 0) spin_floor(part_s, floor_gaps, floor_span, cpu);
         rep.streams = run_streams(scene, rep.scene_seconds, specs, rep.seconds, o->render_threads,
                                   o->chunk_pulses, o->fifo_priority, o->sender == "shared",
-                                  o->spin_margin_us);
+                                  o->spin_margin_us, awake ? &*awake : nullptr);
         if (floor_s > 0) {
-            spin_floor(floor_s / 2, floor_gaps, floor_span);
+            spin_floor(part_s, floor_gaps, floor_span, cpu);
             rep.floor = summarize_floor(floor_gaps, floor_span);
+        }
+        if (awake) {
+            rep.streams.keep_awake_threads = awake->threads();
+            rep.streams.keep_awake_warning = awake->warning();
+            awake.reset();  // the pacing probe measures the machine as it is
+            if (floor_s > 0) {
+                spin_floor(part_s, plain_gaps, plain_span, cpu);
+                rep.floor_plain = summarize_floor(plain_gaps, plain_span);
+            }
         }
         rep.streams.rig = o->rig;
 

@@ -32,14 +32,22 @@ void md_encoder(std::ostream& o, const Report& r) {
 }
 
 std::string sender_description(const StreamsResult& s) {
+    const std::string awake =
+        s.keep_awake_threads == 0
+            ? std::string()
+            : fmt::format(
+                  "; pinned to a CPU that a SCHED_IDLE spinner keeps out of idle "
+                  "(--keep-awake{})",
+                  s.keep_awake_warning.empty() ? "" : ": " + s.keep_awake_warning);
     return fmt::format(
-        "{} {}",
+        "{} {}{}",
         s.shared ? "one shared deadline-ordered sending thread (--sender shared)"
                  : "each stream paced and sent by its writer thread (--sender per-stream)",
         s.fifo_priority > 0 && s.fifo ? fmt::format("SCHED_FIFO {}{}", s.fifo_priority,
                                                     s.shared ? " (writer threads SCHED_OTHER)" : "")
         : s.fifo_priority > 0         ? fmt::format("SCHED_OTHER (FIFO refused: {})", s.fifo_error)
-                                      : std::string("SCHED_OTHER"));
+                                      : std::string("SCHED_OTHER"),
+        awake);
 }
 
 // "Three streams", or "The 5 sensors of rig 'car.yaml'".
@@ -119,16 +127,36 @@ void md_lateness_and_cpu(std::ostream& o, const StreamsResult& s) {
         if (!t.error.empty()) o << fmt::format("\nError in {}: {}\n", t.label, t.error);
 }
 
+std::string floor_figures(const Floor& f) {
+    return fmt::format(
+        "instants delayed by more than 50 µs {:.3f} %, delay exceeded by 1 % of instants {:.0f} "
+        "µs, longest gap {:.0f} µs",
+        100 * f.share_50us, f.p99_us, f.worst_us);
+}
+
 // Issue 22 item 3: receiver lateness p99 ≤ the floor's p99 + 20 µs; share of packets later than
-// 50 µs ≤ 1.5 × the floor's share of instants delayed by more than 50 µs.
+// 50 µs ≤ 1.5 × the floor's share of instants delayed by more than 50 µs. With --keep-awake the
+// floor was measured with the spinners on and off; the targets take the stricter of each figure.
 void md_floor(std::ostream& o, const Report& r) {
-    const Floor& f = r.floor;
+    Floor f = r.floor;
     if (f.seconds <= 0) return;
-    o << fmt::format(
-        "\n## Against the machine's floor\n\nFloor: a thread spinning on the clock for {:.1f} s "
-        "(half just before the streams, half just after): instants delayed by more than 50 µs "
-        "{:.3f} %, delay exceeded by 1 % of instants {:.0f} µs, longest gap {:.0f} µs.\n\n",
-        f.seconds, 100 * f.share_50us, f.p99_us, f.worst_us);
+    o << "\n## Against the machine's floor\n\n";
+    if (r.floor_plain.seconds > 0) {
+        const Floor& p = r.floor_plain;
+        o << fmt::format(
+            "Floor: a thread spinning on the clock on the sender's CPU, {:.1f} s with it kept "
+            "awake (a quarter just before the streams, a quarter just after): {}; and {:.1f} s "
+            "without (a quarter before those, a quarter after): {}. The targets take the "
+            "stricter of each figure.\n\n",
+            f.seconds, floor_figures(f), p.seconds, floor_figures(p));
+        f.p99_us = std::min(f.p99_us, p.p99_us);
+        f.share_50us = std::min(f.share_50us, p.share_50us);
+    } else {
+        o << fmt::format(
+            "Floor: a thread spinning on the clock for {:.1f} s (half just before the streams, "
+            "half just after): {}.\n\n",
+            f.seconds, floor_figures(f));
+    }
     o << "| stream | receiver p99 µs | floor p99 + 20 µs | met | packets > 50 µs late % | 1.5 × "
          "floor % | met |\n|---|---:|---:|---|---:|---:|---|\n";
     for (const auto& t : r.streams.rows)
@@ -222,7 +250,8 @@ nlohmann::ordered_json streams_run_json(const StreamsResult& s) {
             {"horizon_waits", s.horizon_waits},
             {"full_waits", s.full_waits},
             {"sender_wake_late_p50_us", s.wake_late_p50_us},
-            {"sender_wake_late_p99_us", s.wake_late_p99_us}};
+            {"sender_wake_late_p99_us", s.wake_late_p99_us},
+            {"keep_awake_threads", s.keep_awake_threads}};
 }
 
 nlohmann::ordered_json stream_json(const StreamRow& t) {
@@ -310,6 +339,11 @@ std::string stream_json(const Report& r) {
                                   {"delayed_share_over_50us", r.floor.share_50us},
                                   {"p99_us", r.floor.p99_us},
                                   {"worst_us", r.floor.worst_us}}},
+                                {"floor_without_keep_awake",
+                                 {{"seconds", r.floor_plain.seconds},
+                                  {"delayed_share_over_50us", r.floor_plain.share_50us},
+                                  {"p99_us", r.floor_plain.p99_us},
+                                  {"worst_us", r.floor_plain.worst_us}}},
                                 {"encoder", nlohmann::ordered_json::array()},
                                 {"streams_run", streams_run_json(r.streams)},
                                 {"streams", nlohmann::ordered_json::array()},

@@ -69,6 +69,9 @@ struct StreamsResult {
     double horizon_ms = 0;
     std::uint64_t sender_wakeups = 0, horizon_waits = 0, full_waits = 0;
     double wake_late_p50_us = 0, wake_late_p99_us = 0;  // its timed sleeps' overshoot
+    // --keep-awake: SCHED_IDLE spinners kept the CPUs out of idle (threads; 0: not asked for)
+    std::size_t keep_awake_threads = 0;
+    std::string keep_awake_warning;
     std::string trajectory;
     double render_lead_ms = 0;  // how far the renderers may run ahead (as emulate)
     double cpu_percent() const { return wall_s > 0 ? 100.0 * cpu_s / wall_s : 0; }
@@ -92,7 +95,8 @@ struct Floor {
 
 struct Report {
     Machine machine;
-    Floor floor;
+    Floor floor;        // with --keep-awake: measured with the spinners on, as the streams ran
+    Floor floor_plain;  // --keep-awake only: measured without them (seconds 0 otherwise)
     std::string seconds;
     bool quick = false;
     double scene_seconds = 0;

@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "job.hpp"
+#include "keep_awake_option.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
 #include "mirage/output/packet_output.hpp"
@@ -44,7 +45,7 @@ void register_emulate(CLI::App& app) {
         double rpm = 0;
         std::string pcap;
         std::string calibration_out;
-        bool realtime = false, afap = false, no_status = false;
+        bool realtime = false, afap = false, no_status = false, keep_awake = false;
         int rt_priority = 0;
     };
     auto o = std::make_shared<Opts>();
@@ -89,6 +90,7 @@ void register_emulate(CLI::App& app) {
                     "Send from a SCHED_FIFO thread at this priority (1-99; needs CAP_SYS_NICE): "
                     "tighter pacing on a busy machine")
         ->check(CLI::Range(0, 99));
+    add_keep_awake_flag(*cmd, o->keep_awake);
     cmd->callback([o] {
         JobInputs in = o->job;
         if (!o->pose.empty()) {
@@ -118,8 +120,10 @@ void register_emulate(CLI::App& app) {
         if (!o->afap) set_render_lead(job, output::kEmulateRenderLead);
         const bool ouster = job.sensor.wire.family == sensor::WireFamily::Ouster;
 
+        const auto awake = keep_cpus_awake(o->keep_awake && !o->afap, "emulate");
         output::PacketOutputOptions po;
         po.realtime = !o->afap;
+        po.pin_cpu = sending_cpu_of(awake);
         po.status_line = !o->no_status;
         po.fifo_priority = o->rt_priority;
         po.start_lead = output::kEmulateStartLead;
@@ -132,9 +136,15 @@ void register_emulate(CLI::App& app) {
         wire::WireOptions wo = o->wire;
         wo.position_packets = ports.position != 0;
         wo.imu_packets = ports.imu != 0;
+        // On the host's clock: the timestamps follow its steps (docs/time.md §1).
+        std::optional<hostclock::ClockStepFollower> clock;
+        if (start_now && !o->afap) clock.emplace([] { return -host_gps_offset_ns(); });
+        po.clock_follower = clock ? &*clock : nullptr;
+        wire::WireContext ctx = wire_context(job);
+        ctx.clock_step = clock ? &clock->step() : nullptr;
         std::optional<output::PacketOutput> out;
         wire::WireSetup w = wire::make_wire(
-            wire_context(job), wo, [&out](const wire::PacketView& p) { (*out)(p); }, o->to);
+            ctx, wo, [&out](const wire::PacketView& p) { (*out)(p); }, o->to);
         out.emplace(po);
         if (start_now && !o->afap)
             out->anchor(job.options.start,
@@ -165,6 +175,7 @@ void register_emulate(CLI::App& app) {
             double(t.p99.count()) / 1e3, double(t.worst_late.count()) / 1e3,
             static_cast<unsigned long long>(t.late), stop.load() ? " (interrupted)" : "");
         if (!side.empty()) std::printf("  wrote %s %s\n", w.side_file_kind.c_str(), side.c_str());
+        print_clock_steps(stdout, clock ? &*clock : nullptr);
     });
 }
 

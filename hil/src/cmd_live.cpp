@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "job.hpp"
+#include "keep_awake_option.hpp"
 #include "live_loop.hpp"
 #include "mirage/bytestream/byte_stream.hpp"
 #include "mirage/can/can_bus.hpp"
@@ -45,6 +46,7 @@ void register_live(CLI::App& app) {
         double fake_ins_rate = 100;
         bool no_status = false;
         int rt_priority = 0;
+        bool keep_awake = false;
         std::string pose_log, nav_record, nav_record_ifname, nav_date = "host";
     };
     auto o = std::make_shared<Opts>();
@@ -118,6 +120,7 @@ void register_live(CLI::App& app) {
     cmd->add_flag("--no-status", o->no_status, "No status line");
     cmd->add_option("--rt-priority", o->rt_priority, "SCHED_FIFO priority of the sending thread")
         ->check(CLI::Range(0, 99));
+    add_keep_awake_flag(*cmd, o->keep_awake);
     cmd->callback([o] {
         JobInputs in = o->job;
         in.trajectory = "static:0,0,0";
@@ -137,6 +140,7 @@ void register_live(CLI::App& app) {
             core::Nanos(static_cast<std::int64_t>(o->max_extrapolation_ms * 1e6));
         navpose::PoseBuffer poses(pc);
         const auto& stop = install_stop_signal();
+        const auto awake = keep_cpus_awake(o->keep_awake, "live");
 
         // In-process fake INS (memory buses, demos): opened before the reader so no frame is lost.
         std::unique_ptr<core::Trajectory> fake_traj;
@@ -239,6 +243,7 @@ void register_live(CLI::App& app) {
         po.realtime = true;
         po.status_line = false;
         po.fifo_priority = o->rt_priority;
+        po.pin_cpu = sending_cpu_of(awake);
         po.pcap_path = o->pcap;
         const udp::StreamPorts ports =
             output::sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);

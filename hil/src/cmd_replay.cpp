@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "keep_awake_option.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/replay/options.hpp"
 #include "mirage/replay/replayer.hpp"
@@ -22,7 +23,7 @@ void register_replay(CLI::App& app) {
         bool top = false;
         double jitter_us = 0;
         double spin_us = static_cast<double>(replay::ReplayConfig{}.spin_ns) / 1000.0;
-        bool quiet = false;
+        bool quiet = false, keep_awake = false;
     };
     auto o = std::make_shared<Opts>();
     auto* cmd = app.add_subcommand(
@@ -60,6 +61,7 @@ void register_replay(CLI::App& app) {
                     "are late by tens of us, more in VMs; more spin = more CPU, less jitter)")
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
+    add_keep_awake_flag(*cmd, o->keep_awake);
     cmd->callback([o] {
         auto cfg = o->cfg;
         cfg.port_map = replay::parse_port_map(o->port_map);
@@ -72,6 +74,10 @@ void register_replay(CLI::App& app) {
             throw ConfigError("replay --spin-us: expected 0 to 1000000");
         cfg.spin_ns = static_cast<std::int64_t>(o->spin_us * 1000.0);
         const auto& stop = install_stop_signal();
+        const auto awake = keep_cpus_awake(o->keep_awake && cfg.speed > 0, "replay");
+        if (std::string why; awake && !hostclock::pin_current_thread(sending_cpu_of(awake), why))
+            std::fprintf(stderr, "mirage replay: not pinned to %s; sending unpinned\n",
+                         why.c_str());
         const bool quiet = o->quiet;
         const auto s = replay::replay(cfg, &stop, [quiet](const replay::ReplaySummary& p) {
             if (!quiet)

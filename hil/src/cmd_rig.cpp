@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "keep_awake_option.hpp"
 #include "rig_control.hpp"
 #include "rig_plan.hpp"
 #include "rig_run.hpp"
@@ -18,7 +19,7 @@ void register_rig(CLI::App& app) {
         "rig", "Run a vehicle's lidars from a rig file: one scene, one trajectory, one clock");
     struct Opts {
         std::string file, duration;
-        bool check = false, no_status = false;
+        bool check = false, no_status = false, keep_awake = false;
         int rt_priority = 0;
     };
     auto o = std::make_shared<Opts>();
@@ -30,10 +31,13 @@ void register_rig(CLI::App& app) {
     cmd->add_option("--rt-priority", o->rt_priority,
                     "Send from a SCHED_FIFO thread at this priority (1-99; needs CAP_SYS_NICE)")
         ->check(CLI::Range(0, 99));
+    add_keep_awake_flag(*cmd, o->keep_awake);
     cmd->callback([o] {
         const rig::RigConfig config = rig::load_rig(o->file);
+        // The whole process, a controlled rig's idle waits included (docs/time.md §5).
+        const auto awake = keep_cpus_awake(o->keep_awake && !o->check, "rig");
         if (config.control.enabled && !o->check) {
-            run_controlled_rig(config, {o->duration, !o->no_status, o->rt_priority});
+            run_controlled_rig(config, {o->duration, !o->no_status, o->rt_priority, awake.get()});
             return;
         }
         RigPlan plan = plan_rig(config, o->duration);
@@ -44,6 +48,7 @@ void register_rig(CLI::App& app) {
         RigRunOptions ro;
         ro.status_line = !o->no_status;
         ro.rt_priority = o->rt_priority;
+        ro.awake = awake.get();
         ro.stop = &install_stop_signal();
         if (plan.config.nav.empty())
             run_rig(plan, ro);

@@ -77,10 +77,11 @@ std::string gps_now_spec() {
 }
 
 std::int64_t host_gps_offset_ns() {
+    // Bracketed: a thread preempted between two plain reads would skew the anchor (and fake a
+    // step to the ClockStepFollower) by the length of the preemption.
+    const std::int64_t rt_minus_mono = hostclock::realtime_minus_monotonic();
     const std::int64_t mono = hostclock::monotonic_ns();
-    const std::int64_t gps =
-        core::gps_from_unix_ns(hostclock::realtime_ns()).time_since_epoch().count();
-    return mono - gps;
+    return mono - core::gps_from_unix_ns(mono + rt_minus_mono).time_since_epoch().count();
 }
 
 core::GpsTime host_gps_time_ahead(core::Nanos ahead) {

@@ -75,6 +75,7 @@ void start_run(ActiveRun& a, const rig::RigConfig& config, const RigPlan& base,
             RigRunOptions ro;
             ro.status_line = o.status_line;
             ro.rt_priority = o.rt_priority;
+            ro.awake = o.awake;
             ro.stop = &a.stop;
             ro.control = &model;
             ro.view = &view;

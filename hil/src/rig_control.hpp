@@ -5,6 +5,7 @@
 #pragma once
 #include <string>
 
+#include "mirage/hostclock/keep_awake.hpp"
 #include "mirage/rig/rig_config.hpp"
 
 namespace mirage::hil {
@@ -13,6 +14,7 @@ struct RigControlOptions {
     std::string duration_override;  // --duration
     bool status_line = true;
     int rt_priority = 0;
+    const hostclock::KeepAwake* awake = nullptr;  // --keep-awake (RigRunOptions::awake)
 };
 
 // Serves until SIGINT or SIGTERM. Throws IoError when the control address cannot be bound.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <thread>
 
 #include "mirage/core/error.hpp"
@@ -17,6 +18,7 @@
 #include "mirage/navproto/protocol.hpp"
 #include "mirage/output/packetizer_sink.hpp"
 #include "mirage/udp/shared_sender.hpp"
+#include "summary.hpp"
 
 namespace mirage::hil {
 namespace {
@@ -75,6 +77,7 @@ void rewire(RigRun& r, std::uint32_t index, bool gps_locked = true) {
     r.faulty.reset();
     wire::WireContext ctx = wire_context(s.job);
     ctx.gps_locked = gps_locked;
+    ctx.clock_step = r.clock ? &r.clock->step() : nullptr;
     r.wire = wire::make_wire(
         ctx, s.wire, [raw](const wire::PacketView& p) { send(*raw, p); }, s.entry.to);
     r.faulty = std::make_unique<control::FaultPacketizer>(*r.wire.packetizer, *r.cell,
@@ -88,14 +91,17 @@ std::unique_ptr<RigRun> open_run(RigSensor& s, std::uint32_t index,
                                  const std::shared_ptr<udp::SharedSender>& sender,
                                  const control::FaultSettings& defaults,
                                  const control::ControlModel* control,
-                                 const std::atomic<bool>* halt, bool gps_locked) {
+                                 const std::atomic<bool>* halt, bool gps_locked,
+                                 hostclock::ClockStepFollower* clock) {
     auto r = std::make_unique<RigRun>();
     r->sensor = &s;
+    r->clock = clock;
     output::PacketOutputOptions po;
     po.realtime = true;
     po.status_line = false;
     po.shared_sender = sender;
     po.pcap_path = s.entry.pcap;
+    po.clock_follower = clock;
     output::route_streams(po, s.ports, s.entry.to, s.entry.source_port);
     r->out = std::make_unique<output::PacketOutput>(po);
     r->own_cell.store(defaults);
@@ -173,13 +179,19 @@ void print_summary(const std::vector<std::unique_ptr<RigRun>>& runs, double wall
     std::fflush(stdout);
 }
 
+// The process's CPU seconds less --keep-awake's spinner.
+double rig_cpu_seconds(const RigRunOptions& o) {
+    return hostclock::process_cpu_seconds() - (o.awake ? o.awake->cpu_seconds() : 0.0);
+}
+
 // One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
 // the senders of a 2-core machine would wake each other late (docs/rig.md §2).
-std::shared_ptr<udp::SharedSender> make_sender(int rt_priority) {
+std::shared_ptr<udp::SharedSender> make_sender(const RigRunOptions& o) {
     udp::SharedSenderConfig sc;
-    sc.fifo_priority = rt_priority;
+    sc.fifo_priority = o.rt_priority;
+    if (o.awake && !o.awake->cpus().empty()) sc.cpu = o.awake->cpus().front();
     auto sender = std::make_shared<udp::SharedSender>(sc);
-    if (rt_priority > 0 && !sender->fifo())
+    if (o.rt_priority > 0 && !sender->fifo())
         std::fprintf(stderr, "mirage rig: no SCHED_FIFO for the sender (%s)\n",
                      sender->fifo_error().c_str());
     return sender;
@@ -192,7 +204,7 @@ std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOption
     std::vector<std::unique_ptr<RigRun>> runs;
     for (std::size_t i = 0; i < plan.sensors.size(); ++i)
         runs.push_back(open_run(*plan.sensors[i], static_cast<std::uint32_t>(i), sender,
-                                defaults[i], o.control, o.stop, gps_locked));
+                                defaults[i], o.control, o.stop, gps_locked, o.clock));
     return runs;
 }
 
@@ -200,7 +212,7 @@ std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOption
 // `before_first_pose`: the outputs stay open for the run that follows.
 void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
              const std::function<void(RigRun&)>& body, bool before_first_pose = false) {
-    const double cpu0 = hostclock::process_cpu_seconds();
+    const double cpu0 = rig_cpu_seconds(o);
     const auto w0 = std::chrono::steady_clock::now();
     std::vector<std::thread> threads;
     for (auto& r : runs) {
@@ -237,7 +249,7 @@ void run_all(std::vector<std::unique_ptr<RigRun>>& runs, const RigRunOptions& o,
             "from the first sensor)\n",
             wall, static_cast<unsigned long long>(runs.front()->packets.load()));
     else
-        print_summary(runs, wall, hostclock::process_cpu_seconds() - cpu0, o.stop->load());
+        print_summary(runs, wall, rig_cpu_seconds(o) - cpu0, o.stop->load());
     for (const auto& r : runs)
         if (!r->error.empty())
             throw IoError(fmt::format("rig: sensor '{}': {}", r->sensor->entry.name, r->error));
@@ -269,7 +281,7 @@ bool stream_rig_before_first_pose(RigPlan& plan, const RigRunOptions& o,
     std::fprintf(stderr,
                  "mirage rig: no full pose yet: streaming without returns on the host "
                  "clock until one arrives\n");
-    const double cpu0 = hostclock::process_cpu_seconds();
+    const double cpu0 = rig_cpu_seconds(o);
     const std::int64_t off = host_gps_offset_ns();
     const std::int64_t h0 = host_gps_time_ahead(kHostPulse0Lead).time_since_epoch().count();
     for (auto& s : plan.sensors) s->job.options.start = core::GpsTime(core::Nanos(h0));
@@ -297,8 +309,7 @@ bool stream_rig_before_first_pose(RigPlan& plan, const RigRunOptions& o,
             r->totals = r->out->finish();
             if (r->las) r->las->close();
         }
-        print_summary(runs, double(elapsed.count()) / 1e9, hostclock::process_cpu_seconds() - cpu0,
-                      stop.load());
+        print_summary(runs, double(elapsed.count()) / 1e9, rig_cpu_seconds(o) - cpu0, stop.load());
         return false;
     }
     return true;
@@ -383,14 +394,18 @@ control::RigStatus RigView::status() const {
 
 // A trajectory: every output's first pulse at the same host instant (one sensor clock).
 void run_rig(RigPlan& plan, const RigRunOptions& o) {
-    const auto sender = make_sender(o.rt_priority);
+    const auto sender = make_sender(o);
     // Started "now": the first pulse on the host's GPS time ahead of the schedule, so every
     // packet carries CLOCK_REALTIME's time (docs/time.md §1); else the file's time, replayed.
+    std::optional<hostclock::ClockStepFollower> clock;
+    RigRunOptions ro = o;
     if (plan.start_now) {
         const core::GpsTime start = host_gps_time_ahead(kRigStartLead);
         for (auto& s : plan.sensors) move_start(s->job, start);
+        clock.emplace([] { return -host_gps_offset_ns(); });  // and its steps (docs/time.md §1)
+        ro.clock = &*clock;
     }
-    auto runs = open_runs(plan, o, sender);
+    auto runs = open_runs(plan, ro, sender);
     const core::GpsTime t0 = plan.sensors.front()->job.options.start;
     const std::int64_t anchor = plan.start_now
                                     ? t0.time_since_epoch().count() + host_gps_offset_ns()
@@ -403,6 +418,7 @@ void run_rig(RigPlan& plan, const RigRunOptions& o) {
         output::PacketizerSink sink(*r.input);
         r.stats = render::render(r.sensor->job.setup(), sink, {}, &stop);
     });
+    print_clock_steps(stdout, ro.clock);
 }
 
 // A live source: one reader and pose buffer for all sensors; pulse 0 of every sensor at the same
@@ -420,7 +436,7 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
     std::fprintf(stderr, "%smirage rig: waiting for navigation on %s%s\n", describe(plan).c_str(),
                  c.nav.c_str(),
                  nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
-    const auto sender = make_sender(o.rt_priority);
+    const auto sender = make_sender(o);
     std::vector<std::unique_ptr<RigRun>> runs;
     LiveOptions lo;
     lo.status_line = false;

@@ -13,6 +13,7 @@
 #include "live_loop.hpp"
 #include "mirage/control/control_model.hpp"
 #include "mirage/control/sensor_faults.hpp"
+#include "mirage/hostclock/keep_awake.hpp"
 #include "mirage/las/las_writer.hpp"
 #include "mirage/output/packet_output.hpp"
 #include "rig_plan.hpp"
@@ -38,7 +39,8 @@ struct RigRun {
     // Under a control plane: the run's stop flag; once set, nothing more is handed to the sender
     // and what it holds is dropped (a stopped or faulted rig goes quiet at once).
     const std::atomic<bool>* halt = nullptr;
-    std::unique_ptr<LiveSession> session;  // live navigation: sends through the session
+    std::unique_ptr<LiveSession> session;           // live navigation: sends through the session
+    hostclock::ClockStepFollower* clock = nullptr;  // on the host's clock: its steps
     render::RenderStats stats;
     LiveTotals live;
     output::PacketOutputTotals totals;
@@ -69,6 +71,11 @@ struct RigRunOptions {
     const std::atomic<bool>* stop = nullptr;         // required
     const control::ControlModel* control = nullptr;  // per-sensor faults; null: the rig file's
     RigView* view = nullptr;
+    // --keep-awake: the sender runs on the CPU it keeps awake, and its spinner's CPU time is not
+    // the rig's (docs/time.md §5).
+    const hostclock::KeepAwake* awake = nullptr;
+    // Set by run_rig for a rig on the host's clock: one follower of its steps for every sensor.
+    hostclock::ClockStepFollower* clock = nullptr;
 };
 
 // The faults of the rig file in the control plane's units, one per sensor.

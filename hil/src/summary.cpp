@@ -36,4 +36,11 @@ void print_summary(std::FILE* out, const char* what, const Job& job, const rende
     }
 }
 
+void print_clock_steps(std::FILE* out, const hostclock::ClockStepFollower* clock) {
+    if (clock == nullptr || clock->steps() == 0) return;
+    std::fprintf(out, "  followed %llu step(s) of the host clock: timestamps %+.6f s\n",
+                 static_cast<unsigned long long>(clock->steps()),
+                 double(clock->step().load()) / 1e9);
+}
+
 }  // namespace mirage::hil

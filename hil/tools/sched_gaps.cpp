@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -26,6 +27,7 @@
 #include "gap_overlap.hpp"
 #include "gap_period.hpp"
 #include "mirage/hostclock/host_clock.hpp"
+#include "mirage/hostclock/keep_awake.hpp"
 #include "spin_gaps.hpp"
 
 using mirage::hil::Gap;
@@ -35,12 +37,16 @@ int main(int argc, char** argv) {
     double seconds = 10;
     unsigned threads = 1;
     std::string json;
+    bool keep_awake = false;
     app.add_option("--seconds", seconds, "How long to spin")->capture_default_str();
     app.add_option("--threads", threads,
                    "Spinning threads, pinned one per CPU when more than one; also reports the "
                    "instants when all of them were held off at once")
         ->capture_default_str();
     app.add_option("--json", json, "Also write the result as one JSON object to this file");
+    app.add_flag("--keep-awake", keep_awake,
+                 "Spin on the CPU that `mirage replay --keep-awake` sends from, kept out of idle "
+                 "as it keeps it (one thread only; docs/time.md §5)");
     CLI11_PARSE(app, argc, argv);
     if (!(seconds > 0) || seconds > 3600) {
         std::fprintf(stderr, "mirage-sched-gaps: --seconds must be in (0, 3600]\n");
@@ -54,11 +60,23 @@ int main(int argc, char** argv) {
     // All threads spin over the same span, starting 10 ms from now (after they have started).
     const std::int64_t start = mirage::hostclock::monotonic_ns() + 10'000'000;
     const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
+    if (keep_awake && threads != 1) {
+        std::fprintf(stderr, "mirage-sched-gaps: --keep-awake measures one thread\n");
+        return 2;
+    }
+    const int awake_cpu = mirage::hostclock::sending_cpu();
+    const mirage::hostclock::KeepAwake awake(keep_awake ? std::vector<int>{awake_cpu}
+                                                        : std::vector<int>{});
     std::vector<std::vector<Gap>> gaps(threads);
     std::vector<int> pin_error(threads, 0);
     std::vector<std::thread> pool;
     for (unsigned c = 0; c < threads; ++c) {
         pool.emplace_back([&, c] {
+            std::string why;
+            if (keep_awake && !mirage::hostclock::pin_current_thread(awake_cpu, why)) {
+                pin_error[c] = EINVAL;
+                return;
+            }
             if (threads > 1) {
                 cpu_set_t set;
                 CPU_ZERO(&set);
@@ -115,6 +133,8 @@ int main(int argc, char** argv) {
             100.0 * period.phase_share);
     else
         std::printf("sched-gaps: %zu gaps > 20 us: too few for a period\n", period.gaps);
+    if (keep_awake)
+        std::printf("sched-gaps: on CPU %d, kept out of idle by a SCHED_IDLE spinner\n", awake_cpu);
     if (threads > 1) {
         for (unsigned c = 1; c < threads; ++c) {
             const std::array<double, 4>& p = thread_pct[c];
@@ -145,6 +165,10 @@ int main(int argc, char** argv) {
             {"delayed_pct_over_10us", finite(first[0])},
             {"delayed_pct_over_20us", finite(first[1])},
             {"delayed_pct_over_50us", finite(first[2])},
+            {"delay_p99_us", finite(static_cast<double>(mirage::hil::delay_exceeded_by(
+                                        gaps[0], end - start, 0.01)) *
+                                    1e-3)},
+            {"keep_awake", keep_awake},
             {"all_threads_delayed_pct_over_20us", finite(all_pct[1])},
             {"all_threads_delayed_pct_over_50us", finite(all_pct[2])},
             {"gap_period_ms_over_20us", finite(period.period_ns * 1e-6)},

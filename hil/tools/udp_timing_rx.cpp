@@ -212,6 +212,9 @@ struct Analysis {
     std::size_t scheduled = 0, received = 0, matched = 0, lost = 0, unmatched = 0;
     double p50_us = 0, p99_us = 0, max_us = 0, min_us = 0, abs_p99_us = 0, jitter_p99_us = 0;
     double drift_min_us = 0, drift_median_us = 0;
+    // Lateness: error − the least error (the clock relation; delays only add to it), as the
+    // floor targets read it (docs/benchmarks.md §4).
+    double late_p99_us = 0, late_over_50us_pct = 0;
     double rx_span_s = 0, schedule_span_s = 0, rx_pps = 0;
 };
 
@@ -287,6 +290,10 @@ Analysis analyse(const std::vector<Scheduled>& sched, const std::vector<Received
     std::sort(jit.begin(), jit.end());
     a.abs_p99_us = quantile(absv, 0.99) * 1e-3;
     a.jitter_p99_us = quantile(jit, 0.99) * 1e-3;
+    a.late_p99_us = (quantile(s, 0.99) - static_cast<double>(s.front())) * 1e-3;
+    const auto over =
+        std::count_if(s.begin(), s.end(), [&](std::int64_t e) { return e - s.front() > 50'000; });
+    a.late_over_50us_pct = 100.0 * static_cast<double>(over) / static_cast<double>(s.size());
     return a;
 }
 
@@ -306,6 +313,8 @@ std::string to_json(const std::string& label, const Analysis& a) {
                                       {"err_min_us", finite(a.min_us)},
                                       {"abs_err_p99_us", finite(a.abs_p99_us)},
                                       {"jitter_p99_us", finite(a.jitter_p99_us)},
+                                      {"late_p99_us", finite(a.late_p99_us)},
+                                      {"late_over_50us_pct", finite(a.late_over_50us_pct)},
                                       {"drift_min_us", finite(a.drift_min_us)},
                                       {"drift_median_us", finite(a.drift_median_us)},
                                       {"rx_span_s", finite(a.rx_span_s)},

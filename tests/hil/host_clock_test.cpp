@@ -6,8 +6,11 @@
 #include "mirage/hostclock/host_clock.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/timex.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <fstream>
 #include <mutex>
 #include <thread>
@@ -144,6 +147,94 @@ TEST(HostClock, ouster_timestamp_modes_stamp_tai_utc_or_the_gps_count) {
     EXPECT_NEAR(ptp, 37.0, 0.01);
     EXPECT_NEAR(utc, 0.0, 0.01);
     EXPECT_NEAR(osc, 18.0 - 315964800.0, 0.01);
+}
+
+// Steps CLOCK_REALTIME by exact amounts (clock_adjtime ADJ_SETOFFSET, as `date -s` or phc2sys
+// would, without their rounding) and undoes what is left at the end, whatever happens.
+class RealtimeStepper {
+  public:
+    ~RealtimeStepper() {
+        if (total_ns_ != 0) step(-total_ns_);
+    }
+    bool step(std::int64_t ns) {
+        timex tx{};
+        tx.modes = ADJ_SETOFFSET | ADJ_NANO;
+        tx.time.tv_sec = ns >= 0 ? ns / 1'000'000'000 : -((-ns + 999'999'999) / 1'000'000'000);
+        tx.time.tv_usec = ns - std::int64_t(tx.time.tv_sec) * 1'000'000'000;  // ns (ADJ_NANO)
+        if (::clock_adjtime(CLOCK_REALTIME, &tx) < 0) return false;
+        total_ns_ += ns;
+        return true;
+    }
+
+  private:
+    std::int64_t total_ns_ = 0;
+};
+
+// The host's clock steps +2 s, then back, while a VLP-16 streams to `rx` from `command` (4 s of
+// streaming; docs/time.md §1 "Steps"): the number of packets whose receipt on CLOCK_REALTIME −
+// stamp leaves 0.5..5 ms, and the command's output.
+std::size_t packets_off_across_steps(const std::string& command, ClockReceiver& rx,
+                                     RealtimeStepper& stepper, std::string& output) {
+    std::atomic<bool> stepped_back{false};
+    std::thread steps([&] {
+        // Pulse 0 is 0.5 s after loading; the steps fall inside the 4 s of streaming.
+        std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+        stepper.step(2'000'000'000);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        stepper.step(-2'000'000'000);
+        stepped_back = true;
+    });
+    const RunResult r = run_mirage(command);
+    steps.join();
+    rx.stop();
+    output = r.output;
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(stepped_back.load());
+    const std::vector<double>& off = rx.offsets_ms();
+    EXPECT_GT(off.size(), 2000u);
+    std::size_t outside = 0;
+    for (const double o : off) outside += o < 0.5 || o > 5.0;
+    std::printf(
+        "[ clock step ] %zu packets; receipt on CLOCK_REALTIME − timestamp outside 0.5..5 ms: %zu "
+        "(the host stepped +2 s and back)\n%s",
+        off.size(), outside, r.output.c_str());
+    return outside;
+}
+
+// The timestamps follow within a poll period, so receipt − stamp stays one packet's span but for
+// the packets encoded before each step was seen. Not followed, the 1.5 s between the steps
+// (~1 130 packets) would be 2 s off. Needs CAP_SYS_TIME (root); the test binary runs alone
+// (SERIAL), so no other test sees the host clock step.
+TEST(HostClock, emulate_and_rig_follow_steps_of_the_host_clock) {
+    RealtimeStepper stepper;
+    if (::geteuid() != 0 || !stepper.step(0))
+        GTEST_SKIP() << "needs CAP_SYS_TIME to step CLOCK_REALTIME (run as root)";
+    TempDir tmp;
+    { std::ofstream(tmp.file("yard.yaml")) << kScene; }
+    std::string out;
+    {
+        ClockReceiver rx;
+        const std::size_t off = packets_off_across_steps(
+            "emulate --scene " + tmp.file("yard.yaml") +
+                " --sensor vlp16 --trajectory static:0,0,2 --duration 4 --no-status "
+                "--position-port 0 --to 127.0.0.1 --data-port " +
+                std::to_string(rx.port()),
+            rx, stepper, out);
+        EXPECT_LT(off, 2u * 190u);  // a poll period (100 ms) and a little, per step
+        EXPECT_NE(out.find("followed 2 step(s) of the host clock"), std::string::npos);
+    }
+    {
+        ClockReceiver rx;
+        std::ofstream(tmp.file("rig.yaml"))
+            << "scene: yard.yaml\nnavigation: {trajectory: 'static:2,-3,1.8,0,0,30'}\n"
+               "duration: 4\nsensors:\n  - {name: a, sensor: vlp16, to: 127.0.0.1, ports: {data: "
+            << rx.port() << ", position: 0}}\n";
+        // The rig's shared sender holds up to 100 ms more of packets encoded before a step.
+        const std::size_t off = packets_off_across_steps(
+            "rig " + tmp.file("rig.yaml") + " --no-status", rx, stepper, out);
+        EXPECT_LT(off, 2u * 270u);
+        EXPECT_NE(out.find("followed 2 step(s) of the host clock"), std::string::npos);
+    }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "mirage/core/error.hpp"
 #include "mirage/core/time.hpp"
 #include "mirage/hostclock/host_clock.hpp"
+#include "mirage/hostclock/keep_awake.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 
 namespace mirage::output {
@@ -73,6 +74,12 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
         first_ = last_status_ = last_tick_ = now;
         // With a shared sender only its thread runs FIFO: a FIFO writer would take its encoding
         // bursts from the render workers, which need the CPU more (issue 3 item 9).
+        if (opt_.realtime && opt_.pin_cpu >= 0 && !shared_) {
+            std::string why;
+            if (!hostclock::pin_current_thread(opt_.pin_cpu, why))
+                std::fprintf(stderr, "packet output: not pinned to %s; pacing unpinned\n",
+                             why.c_str());
+        }
         if (opt_.realtime && opt_.fifo_priority > 0 && !shared_) {
             if (udp::set_realtime_priority(opt_.fifo_priority, totals_.fifo_error)) {
                 totals_.fifo = true;
@@ -85,6 +92,11 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
     }
     if (opt_.realtime && !pacer_.anchored())
         pacer_.anchor(packet.time, hostclock::monotonic_ns() + opt_.start_lead.count());
+    std::int64_t step = 0;  // the capture host's clock steps with the device's
+    if (opt_.clock_follower) {
+        step = opt_.clock_follower->step().load(std::memory_order_relaxed);
+        opt_.clock_follower->poll(hostclock::monotonic_ns());
+    }
     if (shared_) {
         // The sending thread paces; this thread only waits while it is a horizon ahead.
         shared_->sender->submit(shared_->id, packet.stream, pacer_.deadline_ns(packet.time),
@@ -102,7 +114,7 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
         pcap::Endpoint src = opt_.pcap_source, dst = pcap_dst_;
         src.port = opt_.pcap_source_ports.port(packet.stream);
         dst.port = pcap_dst_ports_.port(packet.stream);
-        if (pcap_->write(core::unix_ns_from_gps(packet.time), src, dst, packet.bytes))
+        if (pcap_->write(core::unix_ns_from_gps(packet.time) + step, src, dst, packet.bytes))
             ++totals_.pcap_packets;
     }
     ++totals_.packets;

@@ -16,6 +16,7 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/hostclock/host_clock.hpp"
+#include "mirage/hostclock/keep_awake.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/pacing_probe.hpp"
 
@@ -255,10 +256,14 @@ void SharedSender::run() {
     pthread_setname_np(pthread_self(), "mirage-sender");  // for top, perf and ps
     // Timer slack (50 µs by default) would delay every wake-up by most of the spin margin.
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+    if (config_.cpu >= 0) {
+        std::string why;
+        if (!hostclock::pin_current_thread(config_.cpu, why)) fifo_error_ = "not pinned: " + why;
+    }
     if (config_.fifo_priority > 0) {
         std::string why;
         const bool ok = set_realtime_priority(config_.fifo_priority, why);
-        if (!ok) fifo_error_ = why;
+        if (!ok) fifo_error_ += (fifo_error_.empty() ? "" : "; ") + why;
         fifo_.store(ok, std::memory_order_release);
     }
     {

@@ -23,6 +23,8 @@ std::optional<TimestampMode> parse_timestamp_mode(const std::string& name) {
 }
 
 std::uint64_t SensorClock::ns(core::GpsTime t) const {
+    if (step != nullptr && mode != TimestampMode::InternalOsc)
+        t += core::Nanos(step->load(std::memory_order_relaxed));
     switch (mode) {
         case TimestampMode::InternalOsc: {
             const auto d = (t - power_on).count();

@@ -137,6 +137,7 @@ WireSetup make_wire(const WireContext& ctx, const WireOptions& options, wire::Pa
             po.position_options.pps = velodyne::PpsStatus::Absent;
             po.hdl64_gps_status = 0;
         }
+        po.clock_step = ctx.clock_step;
         auto p =
             std::make_unique<velodyne::Packetizer>(d, mode, sensor, ctx.start, std::move(sink), po);
         w.packets_per_second = d.packets_per_second(mode);  // firing timing is fixed; rpm is not
@@ -155,6 +156,7 @@ WireSetup make_wire(const WireContext& ctx, const WireOptions& options, wire::Pa
     if (!clock_mode)
         throw ConfigError("emulate: --timestamp-mode " + options.timestamp_mode + ": unknown");
     cfg.clock.mode = *clock_mode;
+    cfg.clock.step = ctx.clock_step;
     const core::Trajectory* traj = &ctx.trajectory;
     const core::Mount mount = ctx.mount;
     if (options.imu_packets)

@@ -147,6 +147,10 @@ void Packetizer::emit_through(std::uint64_t packet_exclusive) {
     }
 }
 
+core::GpsTime Packetizer::stamp(core::GpsTime t) const {
+    return opt_.clock_step ? t + core::Nanos(opt_.clock_step->load(std::memory_order_relaxed)) : t;
+}
+
 void Packetizer::emit_positions_until(core::GpsTime t) {
     if (!opt_.position_packets || model_.position_layout == PositionLayout::None ||
         model_.position_period_ns <= 0)
@@ -157,7 +161,7 @@ void Packetizer::emit_positions_until(core::GpsTime t) {
             core::Nanos(static_cast<std::int64_t>(position_next_) * model_.position_period_ns);
         if (pt > t) return;
         const GeoFix fix = opt_.position ? opt_.position(pt) : opt_.fixed_position;
-        encode_position(model_.position_layout, pt, fix, opt_.position_options, pos_buf_);
+        encode_position(model_.position_layout, stamp(pt), fix, opt_.position_options, pos_buf_);
         ++position_next_;
         ++stats_.position_packets;
         if (sink_) sink_(wire::PacketView{wire::Stream::Position, pt, pos_buf_});
@@ -199,7 +203,7 @@ void Packetizer::emit_packet() {
             put(q, l, 0, s.last);
             put(q, l, 1, other);
         }
-    const core::GpsTime t0 = sequence_time(s0);
+    const core::GpsTime t0 = stamp(sequence_time(s0));
     raw.timestamp_us = micros_past_hour(t0);
     if (model_.hdl64_status) {
         // §1.10: a 16-byte status cycle, one byte per packet: 9 hardware status bytes

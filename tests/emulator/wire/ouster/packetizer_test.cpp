@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -249,6 +250,23 @@ TEST(OusterPacketizer, imu_packets_are_interleaved_in_time_order_at_100_hz) {
     EXPECT_EQ(lidar, 64u);
     EXPECT_EQ(imu, 11u);  // t = 0, 10, …, 100 ms (the frame's columns reach 100 ms)
     EXPECT_EQ(calls, 11);
+}
+
+// A step of the time source (docs/time.md §1) moves the sync-pulse and PTP stamps by it; the
+// internal oscillator runs on.
+TEST(OusterSensorClock, step_moves_the_followed_modes_only) {
+    std::atomic<std::int64_t> step{0};
+    const core::GpsTime t = kStart + core::Nanos(123'456'789);
+    for (TimestampMode m :
+         {TimestampMode::InternalOsc, TimestampMode::SyncPulseIn, TimestampMode::Ptp1588}) {
+        SCOPED_TRACE(to_string(m));
+        SensorClock c{m, kStart, &step};
+        step.store(0);
+        const std::uint64_t before = c.ns(t);
+        step.store(-1'750'000'000);
+        const std::int64_t moved = static_cast<std::int64_t>(c.ns(t) - before);
+        EXPECT_EQ(moved, m == TimestampMode::InternalOsc ? 0 : -1'750'000'000);
+    }
 }
 
 }  // namespace

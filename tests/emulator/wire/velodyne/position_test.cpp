@@ -2,6 +2,8 @@
 // Position packets (docs/wire-formats.md §1.9): $GPRMC, layouts, rate.
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "mirage/velodyne/packetizer.hpp"
 #include "mirage/velodyne/position_packet.hpp"
 #include "mirage/velodyne/sensor_clock.hpp"
@@ -101,6 +103,55 @@ TEST(VelodynePosition, packetizer_sends_position_packets_at_the_model_rate) {
                     static_cast<unsigned long long>(pos));
         EXPECT_NEAR(static_cast<double>(pos), expected, 1.0);
     }
+}
+
+// A step of the clock source (docs/time.md §1): data, position and $GPRMC times jump by it from
+// the next packet on; the send times (the firing schedule) do not.
+TEST(VelodynePosition, clock_step_moves_every_timestamp_but_not_the_schedule) {
+    const ModelDescriptor& md = descriptor(Model::Vlp16);
+    std::vector<test::CollectedPacket> out;
+    std::atomic<std::int64_t> step{0};
+    PacketizerOptions o;
+    o.start = core::parse_time("2024-01-01T00:10:00Z");
+    o.fixed_position = GeoFix{10.0, 20.0, 0, 0, true};
+    o.clock_step = &step;
+    Packetizer pk(md, o, test::collect_into(out));
+    const std::uint64_t n =
+        static_cast<std::uint64_t>(md.packets_per_second(ReturnMode::Strongest));
+    pk.advance_to(n / 2 * pk.pulses_per_packet());
+    const std::size_t split = out.size();
+    constexpr std::int64_t kStep = 2'500'000'000;
+    step.store(kStep);
+    pk.advance_to(n * pk.pulses_per_packet());
+    int data_before = 0, data_after = 0, pos_after = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const auto& p = out[i];
+        const std::int64_t shift = i < split ? 0 : kStep;
+        const core::GpsTime stamped = p.time + core::Nanos(shift);
+        if (p.stream == wire::Stream::Position) {
+            DecodedPosition d;
+            ASSERT_EQ(decode_position(p.bytes, d), PositionStatus::Ok);
+            EXPECT_EQ(d.timestamp_us, micros_past_hour(stamped));
+            const UtcFields u = utc_fields(stamped);
+            EXPECT_EQ(d.second, u.second);
+            EXPECT_EQ(d.minute, u.minute);
+            pos_after += i >= split;
+            continue;
+        }
+        // The schedule runs on: the send time is the closed form's, step or not.
+        EXPECT_EQ(p.time, pk.packet_send_time(std::uint64_t(data_before + data_after)));
+        DecodedPacket d;
+        ASSERT_EQ(decode_data(p.bytes, &md, d), DecodeStatus::Ok);
+        // Stamped at the first firing; sent after the last (one packet's span, under 1.4 ms).
+        const std::int64_t lead_us =
+            std::int64_t{micros_past_hour(stamped)} - std::int64_t{d.timestamp_us};
+        EXPECT_GT(lead_us, 1000);
+        EXPECT_LT(lead_us, 1400);
+        (i < split ? data_before : data_after)++;
+    }
+    EXPECT_GT(data_before, 300);
+    EXPECT_GT(data_after, 300);
+    EXPECT_GT(pos_after, 20);  // VLP-16: one every 13.3 ms
 }
 
 }  // namespace

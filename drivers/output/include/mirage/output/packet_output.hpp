@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "mirage/hostclock/clock_step.hpp"
 #include "mirage/pcap/writer.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/udp/shared_sender.hpp"
@@ -28,6 +29,10 @@ struct PacketOutputOptions {
     // Pacer's 50 µs: on virtual machines timer wake-ups are late by tens of µs even for FIFO
     // threads; docs/benchmarks.md §2.)
     int fifo_priority = 0;
+    // >= 0: the sending thread (the shared sender's, or the writer thread that paces) runs on
+    // this CPU, the one --keep-awake keeps out of idle (docs/time.md §5). The shared sender
+    // takes it from its own config.
+    int pin_cpu = -1;
     // Realtime UDP output through one deadline-ordered sending thread (udp::SharedSender) instead
     // of pacing in the calling thread: the caller then only waits while it is more than the
     // sender's horizon ahead, and stays SCHED_OTHER. The thread is shared among the outputs it
@@ -38,6 +43,10 @@ struct PacketOutputOptions {
     // a lead before sending starts (a start-up with three streams briefly renders slower than
     // real time). Unless anchor() was called. 0 for INS-driven output, where it would be latency.
     core::Nanos start_lead{0};
+    // A sensor clock anchored to the host's GPS time: each packet polls for host clock steps,
+    // which the encoder adds to the timestamps from its next packet on, and the capture to its
+    // record times (docs/time.md §1). May be shared by the outputs of one rig.
+    hostclock::ClockStepFollower* clock_follower = nullptr;
 };
 
 // `mirage emulate`'s start lead (stream-bench uses the same): three streams starting at once

@@ -37,6 +37,9 @@ struct SharedSenderConfig {
     std::size_t capacity = 4096;
     std::size_t slot_bytes = 1500;  // initial buffer per slot; grows once to the largest
     int fifo_priority = 0;          // > 0: the sending thread asks for SCHED_FIFO
+    // >= 0: the sending thread pins itself to this CPU, the one --keep-awake keeps out of idle
+    // (hostclock::sending_cpu(); docs/time.md §5). A refusal is reported as fifo_error() is.
+    int cpu = -1;
     WakeMethod wake = WakeMethod::Futex;
 };
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,9 +20,12 @@ std::string to_string(TimestampMode m);
 std::optional<TimestampMode> parse_timestamp_mode(const std::string& name);
 
 // How the device stamps a GPS instant. Times before power-on read 0 (the counter starts there).
+// `step` (when set): ns the time source has stepped since the start, added in the modes that
+// follow a source (sync pulse, PTP); the internal oscillator runs on (docs/time.md §1).
 struct SensorClock {
     TimestampMode mode = TimestampMode::InternalOsc;
     core::GpsTime power_on{};
+    const std::atomic<std::int64_t>* step = nullptr;
     std::uint64_t ns(core::GpsTime t) const;
 };
 

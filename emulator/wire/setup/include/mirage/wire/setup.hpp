@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -38,6 +40,9 @@ struct WireContext {
     // False before an INS's first fix: Velodyne position packets then report PPS absent and a
     // void $GPRMC, as a unit before lock (docs/wire-formats.md §1.9).
     bool gps_locked = true;
+    // When set: ns the sensor clock's time source has stepped since the start (a host clock step
+    // followed by hostclock::ClockStepFollower), added to the timestamps (docs/time.md §1).
+    const std::atomic<std::int64_t>* clock_step = nullptr;
 };
 
 // A sensor's packet encoder and the side files its clients need.

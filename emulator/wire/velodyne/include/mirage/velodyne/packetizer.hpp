@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -32,6 +33,10 @@ struct PacketizerOptions {
     PositionPacketOptions position_options{};
     std::uint8_t hdl64_temperature_c = 40;
     std::uint8_t hdl64_gps_status = 'A';  // 'A' PPS + NMEA, 'V', 'P', 0
+    // When set: ns the clock source has stepped since the start, added to every timestamp
+    // (data, position, $GPRMC, HDL-64E status) from the next packet on; the firing schedule and
+    // the send times run on (docs/time.md §1).
+    const std::atomic<std::int64_t>* clock_step = nullptr;
 };
 
 struct PacketizerStats {
@@ -85,6 +90,7 @@ class Packetizer final : public wire::Packetizer {
     void emit_through(std::uint64_t packet_exclusive);
     void emit_packet();
     void emit_positions_until(core::GpsTime t);
+    core::GpsTime stamp(core::GpsTime t) const;  // t + the clock step so far
     static std::uint8_t reflectivity_of(std::uint16_t intensity);
 
     const ModelDescriptor& model_;

@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: Apache-2.0
+// `--keep-awake` of the real-time commands (emulate, live, rig, replay): the sending thread runs
+// on one CPU that a SCHED_IDLE spinner keeps out of idle for the run, so its timer wake-ups come
+// on time (docs/time.md §5).
+#pragma once
+#include <memory>
+
+#include "mirage/hostclock/keep_awake.hpp"
+
+namespace CLI {
+class App;
+}  // namespace CLI
+
+namespace mirage::hil {
+
+void add_keep_awake_flag(CLI::App& cmd, bool& flag);
+// Started when `on` on hostclock::sending_cpu() (a note on stderr names it, and any warning);
+// null otherwise. The caller pins its sending thread to awake->cpus().front().
+std::unique_ptr<hostclock::KeepAwake> keep_cpus_awake(bool on, const char* command);
+// The CPU to pin the sending thread to: the one `awake` keeps awake, or -1.
+inline int sending_cpu_of(const std::unique_ptr<hostclock::KeepAwake>& awake) {
+    return awake && !awake->cpus().empty() ? awake->cpus().front() : -1;
+}
+
+}  // namespace mirage::hil
