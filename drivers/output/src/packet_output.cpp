@@ -74,12 +74,6 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
         first_ = last_status_ = last_tick_ = now;
         // With a shared sender only its thread runs FIFO: a FIFO writer would take its encoding
         // bursts from the render workers, which need the CPU more (issue 3 item 9).
-        if (opt_.realtime && opt_.pin_cpu >= 0 && !shared_) {
-            std::string why;
-            if (!hostclock::pin_current_thread(opt_.pin_cpu, why))
-                std::fprintf(stderr, "packet output: not pinned to %s; pacing unpinned\n",
-                             why.c_str());
-        }
         if (opt_.realtime && opt_.fifo_priority > 0 && !shared_) {
             if (udp::set_realtime_priority(opt_.fifo_priority, totals_.fifo_error)) {
                 totals_.fifo = true;
@@ -88,6 +82,13 @@ void PacketOutput::operator()(const wire::PacketView& packet) {
                              "packet output: SCHED_FIFO %d not set (%s); pacing without it\n",
                              opt_.fifo_priority, totals_.fifo_error.c_str());
             }
+        }
+        // --keep-awake: this thread paces, on the CPU kept out of idle (docs/time.md §5).
+        if (opt_.realtime && opt_.pin_cpu >= 0 && !shared_) {
+            std::string why;
+            if (!hostclock::pin_current_thread(opt_.pin_cpu, why))
+                std::fprintf(stderr, "packet output: not pinned to %s; pacing unpinned\n",
+                             why.c_str());
         }
     }
     if (opt_.realtime && !pacer_.anchored())
