@@ -570,8 +570,9 @@ void register_stream_bench(CLI::App& app) {
         ->check(CLI::Range(0.0, 600.0))
         ->capture_default_str();
     cmd->add_flag("--keep-awake", o->keep_awake,
-                  "Keep the CPUs out of idle with SCHED_IDLE spinners during the floor and the "
-                  "streams (as emulate/rig --keep-awake; docs/time.md §5)");
+                  "Pin the shared sender to one CPU kept out of idle by a SCHED_IDLE spinner "
+                  "during the floor and the streams (as emulate/rig --keep-awake; needs --sender "
+                  "shared; docs/time.md §5)");
     cmd->add_flag("--quick", o->quick, "Short run for CI: 3 s streams, short encoder runs");
     cmd->callback([o] {
         Report rep;
@@ -580,6 +581,8 @@ void register_stream_bench(CLI::App& app) {
         rep.seconds = o->quick ? "3" : o->seconds;
         if (o->render_threads < 1)
             throw ConfigError("stream-bench: --render-threads: expected at least 1");
+        if (o->keep_awake && o->sender != "shared")
+            throw ConfigError("stream-bench: --keep-awake needs --sender shared");
         const double secs =
             static_cast<double>(parse_seconds(rep.seconds, "--seconds").count()) / 1e9;
         std::error_code ec;
@@ -626,8 +629,6 @@ void register_stream_bench(CLI::App& app) {
         // quarter each, off on the outside: the targets take the stricter.
         const double floor_s = o->quick ? 1.0 : o->floor_seconds;
         const double part_s = o->keep_awake ? floor_s / 4 : floor_s / 2;
-        if (o->keep_awake && o->sender != "shared")
-            throw ConfigError("stream-bench: --keep-awake needs --sender shared");
         // Like for like: the floor spins where the sender runs (the CPU kept awake).
         const int cpu = o->keep_awake ? hostclock::sending_cpu() : -1;
         std::vector<Gap> floor_gaps, plain_gaps;
@@ -646,6 +647,8 @@ void register_stream_bench(CLI::App& app) {
         if (awake) {
             rep.streams.keep_awake_threads = awake->threads();
             rep.streams.keep_awake_warning = awake->warning();
+            if (rep.streams.keep_awake_warning.empty() && !rep.streams.fifo_error.empty())
+                rep.streams.keep_awake_warning = "sender " + rep.streams.fifo_error;
             awake.reset();  // the pacing probe measures the machine as it is
             if (floor_s > 0) {
                 spin_floor(part_s, plain_gaps, plain_span, cpu);

@@ -191,9 +191,8 @@ std::shared_ptr<udp::SharedSender> make_sender(const RigRunOptions& o) {
     sc.fifo_priority = o.rt_priority;
     if (o.awake && !o.awake->cpus().empty()) sc.cpu = o.awake->cpus().front();
     auto sender = std::make_shared<udp::SharedSender>(sc);
-    if (o.rt_priority > 0 && !sender->fifo())
-        std::fprintf(stderr, "mirage rig: no SCHED_FIFO for the sender (%s)\n",
-                     sender->fifo_error().c_str());
+    if ((o.rt_priority > 0 && !sender->fifo()) || (o.awake && !sender->fifo_error().empty()))
+        std::fprintf(stderr, "mirage rig: sender: %s\n", sender->fifo_error().c_str());
     return sender;
 }
 

@@ -57,9 +57,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "mirage-sched-gaps: --threads must be in [1, %u] (CPUs)\n", cpus);
         return 2;
     }
-    // All threads spin over the same span, starting 10 ms from now (after they have started).
-    const std::int64_t start = mirage::hostclock::monotonic_ns() + 10'000'000;
-    const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
     if (keep_awake && threads != 1) {
         std::fprintf(stderr, "mirage-sched-gaps: --keep-awake measures one thread\n");
         return 2;
@@ -67,6 +64,9 @@ int main(int argc, char** argv) {
     const int awake_cpu = mirage::hostclock::sending_cpu();
     const mirage::hostclock::KeepAwake awake(keep_awake ? std::vector<int>{awake_cpu}
                                                         : std::vector<int>{});
+    // All threads spin over the same span, starting 10 ms from now (after they have started).
+    const std::int64_t start = mirage::hostclock::monotonic_ns() + 10'000'000;
+    const std::int64_t end = start + static_cast<std::int64_t>(seconds * 1e9);
     std::vector<std::vector<Gap>> gaps(threads);
     std::vector<int> pin_error(threads, 0);
     std::vector<std::thread> pool;
@@ -90,8 +90,8 @@ int main(int argc, char** argv) {
     for (auto& t : pool) t.join();
     for (unsigned c = 0; c < threads; ++c) {
         if (pin_error[c] != 0) {
-            std::fprintf(stderr, "mirage-sched-gaps: cannot pin a thread to CPU %u: %s\n", c,
-                         std::strerror(pin_error[c]));
+            std::fprintf(stderr, "mirage-sched-gaps: cannot pin a thread to CPU %d: %s\n",
+                         keep_awake ? awake_cpu : static_cast<int>(c), std::strerror(pin_error[c]));
             return 1;
         }
     }

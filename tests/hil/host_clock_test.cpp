@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <fstream>
 #include <mutex>
 #include <thread>
@@ -33,6 +34,7 @@ class ClockReceiver {
     }
     std::uint16_t port() const { return rx_.port(); }
     const std::vector<double>& offsets_ms() const { return offsets_; }
+    std::size_t received() const { return received_.load(); }
 
   private:
     void run() {
@@ -47,10 +49,12 @@ class ClockReceiver {
             std::int64_t t = now / kHour * kHour + std::int64_t(dp.timestamp_us) * 1000;
             if (t > now + kHour / 2) t -= kHour;  // stamped before the hour, received after
             offsets_.push_back(double(now - t) / 1e6);
+            received_.fetch_add(1);
         }
     }
     udp::UdpReceiver rx_;
     std::atomic<bool> stop_{false};
+    std::atomic<std::size_t> received_{0};
     std::vector<double> offsets_;
     std::thread thread_;
 };
@@ -177,12 +181,16 @@ std::size_t packets_off_across_steps(const std::string& command, ClockReceiver& 
                                      RealtimeStepper& stepper, std::string& output) {
     std::atomic<bool> stepped_back{false};
     std::thread steps([&] {
-        // Pulse 0 is 0.5 s after loading; the steps fall inside the 4 s of streaming.
-        std::this_thread::sleep_for(std::chrono::milliseconds(2000));
-        stepper.step(2'000'000'000);
+        // 1 s into the 4 s of streaming (the follower took its base before the first packet),
+        // then 1.5 s later back; a run that never streams leaves the clock alone.
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        while (rx.received() == 0 && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (rx.received() == 0) return;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+        if (!stepper.step(2'000'000'000)) return;
         std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-        stepper.step(-2'000'000'000);
-        stepped_back = true;
+        stepped_back = stepper.step(-2'000'000'000);
     });
     const RunResult r = run_mirage(command);
     steps.join();

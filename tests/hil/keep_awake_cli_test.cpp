@@ -30,7 +30,7 @@ std::string cpus_note(const char* command) {
            kNote;
 }
 
-TEST(KeepAwakeCli, EveryPacedCommandKeepsEachCpuAwake) {
+TEST(KeepAwakeCli, EveryPacedCommandKeepsTheSendingCpuAwake) {
     TempDir tmp;
     const std::string scene = tmp.file("yard.yaml"), traj = tmp.file("circle.csv");
     { std::ofstream(scene) << kScene; }

@@ -15,6 +15,7 @@ void ClockStepFollower::poll(std::int64_t monotonic_now) {
         !next_poll_.compare_exchange_strong(due, monotonic_now + config_.period_ns,
                                             std::memory_order_relaxed))
         return;
+    const std::lock_guard lock(read_);
     const std::int64_t now_step = source_() - base_;
     const std::int64_t old = step_.load(std::memory_order_relaxed);
     const std::int64_t change = now_step - old;

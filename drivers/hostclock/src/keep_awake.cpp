@@ -23,15 +23,15 @@ inline void cpu_relax() {
 #endif
 }
 
-// Lowers the calling thread to SCHED_IDLE and pins it to `cpu`; the reason when either fails.
+// Lowers the calling thread to SCHED_IDLE and pins it to `cpu`; the reason when either fails
+// (the thread must then not spin: an ordinary spinner would take half the sender's CPU).
 std::string become_idle_spinner(int cpu) {
-    std::string why;
     sched_param p{};
     if (const int rc = pthread_setschedparam(pthread_self(), SCHED_IDLE, &p); rc != 0)
-        why = std::string("SCHED_IDLE: ") + std::strerror(rc);
+        return std::string("SCHED_IDLE: ") + std::strerror(rc);
     std::string pin;
-    if (!pin_current_thread(cpu, pin)) why += (why.empty() ? "" : "; ") + ("pin " + pin);
-    return why;
+    if (!pin_current_thread(cpu, pin)) return "pin " + pin;
+    return {};
 }
 
 }  // namespace
@@ -64,13 +64,23 @@ KeepAwake::KeepAwake(const std::vector<int>& cpus) : cpus_(cpus) {
     // Each thread settles its policy before the constructor returns, so warning() is final.
     std::vector<std::string> why(cpus.size());
     std::latch settled(static_cast<std::ptrdiff_t>(cpus.size()));
-    for (std::size_t i = 0; i < cpus.size(); ++i) {
-        threads_.emplace_back([this, cpu = cpus[i], &out = why[i], &settled] {
-            pthread_setname_np(pthread_self(), "mirage-awake");  // for top and ps
-            out = become_idle_spinner(cpu);
-            settled.count_down();
-            while (!stop_.load(std::memory_order_relaxed)) cpu_relax();
-        });
+    std::size_t started = 0;
+    try {
+        for (; started < cpus.size(); ++started) {
+            threads_.emplace_back([this, cpu = cpus[started], &out = why[started], &settled] {
+                pthread_setname_np(pthread_self(), "mirage-awake");  // for top and ps
+                out = become_idle_spinner(cpu);
+                const bool spin = out.empty();
+                settled.count_down();
+                while (spin && !stop_.load(std::memory_order_relaxed)) cpu_relax();
+            });
+        }
+    } catch (...) {  // no thread: the ones started must not outlive `why` and `settled`
+        settled.count_down(static_cast<std::ptrdiff_t>(cpus.size() - started));
+        settled.wait();
+        stop_.store(true, std::memory_order_relaxed);
+        for (auto& t : threads_) t.join();
+        throw;
     }
     settled.wait();
     for (std::size_t i = 0; i < cpus.size() && warning_.empty(); ++i)

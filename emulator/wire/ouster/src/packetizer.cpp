@@ -118,10 +118,11 @@ void OusterPacketizer::emit_current() {
     packet_.header.shot_limiting_countdown = d_.shot_limiting_countdown;
     packet_.header.thermal_shutdown_status = d_.thermal_shutdown_status;
     packet_.header.shot_limiting_status = d_.shot_limiting_status;
+    const std::int64_t step = cfg_.clock.step_now();  // one per packet
     for (std::size_t c = 0; c < d_.columns_per_packet; ++c) {
         const std::uint64_t s = first_col + c;
         ColumnHeader& h = packet_.columns[c];
-        h.timestamp_ns = cfg_.clock.ns(column_time(s));
+        h.timestamp_ns = cfg_.clock.ns(column_time(s), step);
         h.measurement_id = measurement_id(s);
         h.frame_id = frame_id(s);
         h.encoder_count = d_.encoder_count(h.measurement_id);
@@ -141,9 +142,10 @@ void OusterPacketizer::emit_imu_until(core::GpsTime t) {
         if (ti > t) break;
         const ImuReading r = cfg_.imu(ti);
         ImuPacket p;
-        p.sys_ns = cfg_.clock.ns(ti);
-        p.accel_ns = cfg_.clock.ns(ti + cfg_.imu_accel_delay);
-        p.gyro_ns = cfg_.clock.ns(ti + cfg_.imu_gyro_delay);
+        const std::int64_t step = cfg_.clock.step_now();  // one per packet
+        p.sys_ns = cfg_.clock.ns(ti, step);
+        p.accel_ns = cfg_.clock.ns(ti + cfg_.imu_accel_delay, step);
+        p.gyro_ns = cfg_.clock.ns(ti + cfg_.imu_gyro_delay, step);
         for (int k = 0; k < 3; ++k) {
             p.accel_g[static_cast<std::size_t>(k)] = static_cast<float>(r.accel_g[k]);
             p.gyro_dps[static_cast<std::size_t>(k)] = static_cast<float>(r.gyro_dps[k]);

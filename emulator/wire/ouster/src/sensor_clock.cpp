@@ -22,9 +22,8 @@ std::optional<TimestampMode> parse_timestamp_mode(const std::string& name) {
     return std::nullopt;
 }
 
-std::uint64_t SensorClock::ns(core::GpsTime t) const {
-    if (step != nullptr && mode != TimestampMode::InternalOsc)
-        t += core::Nanos(step->load(std::memory_order_relaxed));
+std::uint64_t SensorClock::ns(core::GpsTime t, std::int64_t step_ns) const {
+    if (mode != TimestampMode::InternalOsc) t += core::Nanos(step_ns);
     switch (mode) {
         case TimestampMode::InternalOsc: {
             const auto d = (t - power_on).count();

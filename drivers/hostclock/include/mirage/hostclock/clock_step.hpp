@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 
 namespace mirage::hostclock {
 
@@ -40,6 +41,7 @@ class ClockStepFollower {
     std::atomic<std::int64_t> next_poll_{0};
     std::atomic<std::int64_t> step_{0};
     std::atomic<std::uint64_t> steps_{0};
+    std::mutex read_;  // a winner preempted past the next period must not store a stale step
 };
 
 }  // namespace mirage::hostclock

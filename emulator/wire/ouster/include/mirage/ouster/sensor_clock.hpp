@@ -26,7 +26,10 @@ struct SensorClock {
     TimestampMode mode = TimestampMode::InternalOsc;
     core::GpsTime power_on{};
     const std::atomic<std::int64_t>* step = nullptr;
-    std::uint64_t ns(core::GpsTime t) const;
+    // The step now: read once per packet, so one packet's stamps never straddle a step.
+    std::int64_t step_now() const { return step ? step->load(std::memory_order_relaxed) : 0; }
+    std::uint64_t ns(core::GpsTime t) const { return ns(t, step_now()); }
+    std::uint64_t ns(core::GpsTime t, std::int64_t step_ns) const;
 };
 
 }  // namespace mirage::ouster
