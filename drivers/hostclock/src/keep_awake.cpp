@@ -15,14 +15,6 @@ bool pin_current_thread(int cpu, std::string& why);
 
 namespace {
 
-inline void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#elif defined(__aarch64__)
-    asm volatile("yield");
-#endif
-}
-
 // Lowers the calling thread to SCHED_IDLE and pins it to `cpu`; the reason when either fails
 // (the thread must then not spin: an ordinary spinner would take half the sender's CPU).
 std::string become_idle_spinner(int cpu) {

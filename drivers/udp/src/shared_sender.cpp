@@ -46,14 +46,6 @@ void futex_wake_one(std::atomic<std::uint32_t>& w) {
     syscall(SYS_futex, word(w), FUTEX_WAKE_PRIVATE, 1, nullptr, nullptr, 0);
 }
 
-inline void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#elif defined(__aarch64__)
-    asm volatile("yield");
-#endif
-}
-
 }  // namespace
 
 bool SharedSender::later(const Entry& a, const Entry& b) {
@@ -296,7 +288,7 @@ void SharedSender::run() {
         // hint leaves the core's execution units to a hyper-thread sibling (a renderer).
         std::int64_t now = hostclock::monotonic_ns();
         while (now < top.deadline_ns) {
-            cpu_relax();
+            hostclock::cpu_relax();
             now = hostclock::monotonic_ns();
         }
         const core::Nanos lateness{now - top.deadline_ns};

@@ -7,6 +7,15 @@
 
 namespace mirage::hostclock {
 
+// The pause hint of a spin loop: it leaves the core's execution units to a hyper-thread sibling.
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    asm volatile("yield");
+#endif
+}
+
 // The CPUs this process may run on (its affinity mask), ascending.
 std::vector<int> allowed_cpus();
 // The CPU a real-time run's sending thread is pinned to under --keep-awake: the last allowed one
