@@ -339,7 +339,7 @@ StreamsResult run_streams(const std::shared_ptr<const scene::Scene>& scene, doub
         udp::SharedSenderConfig sc;
         sc.fifo_priority = fifo_priority;  // the writer threads stay SCHED_OTHER
         sc.spin_margin = core::Nanos{std::int64_t{spin_margin_us} * 1'000};
-        if (awake && !awake->cpus().empty()) sc.cpu = awake->cpus().front();
+        sc.cpu = hostclock::sending_cpu_of(awake);
         sender = std::make_shared<udp::SharedSender>(sc);
         res.spin_margin_us = spin_margin_us;
         res.horizon_ms = static_cast<double>(sc.horizon.count()) / 1e6;

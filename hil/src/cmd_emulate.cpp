@@ -123,7 +123,7 @@ void register_emulate(CLI::App& app) {
         const auto awake = keep_cpus_awake(o->keep_awake && !o->afap, "emulate");
         output::PacketOutputOptions po;
         po.realtime = !o->afap;
-        po.pin_cpu = sending_cpu_of(awake);
+        po.pin_cpu = hostclock::sending_cpu_of(awake.get());
         po.status_line = !o->no_status;
         po.fifo_priority = o->rt_priority;
         po.start_lead = output::kEmulateStartLead;

@@ -243,7 +243,7 @@ void register_live(CLI::App& app) {
         po.realtime = true;
         po.status_line = false;
         po.fifo_priority = o->rt_priority;
-        po.pin_cpu = sending_cpu_of(awake);
+        po.pin_cpu = hostclock::sending_cpu_of(awake.get());
         po.pcap_path = o->pcap;
         const udp::StreamPorts ports =
             output::sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);

@@ -75,7 +75,8 @@ void register_replay(CLI::App& app) {
         cfg.spin_ns = static_cast<std::int64_t>(o->spin_us * 1000.0);
         const auto& stop = install_stop_signal();
         const auto awake = keep_cpus_awake(o->keep_awake && cfg.speed > 0, "replay");
-        if (std::string why; awake && !hostclock::pin_current_thread(sending_cpu_of(awake), why))
+        if (std::string why;
+            awake && !hostclock::pin_current_thread(hostclock::sending_cpu_of(awake.get()), why))
             std::fprintf(stderr, "mirage replay: not pinned to %s; sending unpinned\n",
                          why.c_str());
         const bool quiet = o->quiet;

@@ -15,11 +15,7 @@ namespace mirage::hil {
 
 void add_keep_awake_flag(CLI::App& cmd, bool& flag);
 // Started when `on` on hostclock::sending_cpu() (a note on stderr names it, and any warning);
-// null otherwise. The caller pins its sending thread to awake->cpus().front().
+// null otherwise. The caller pins its sending thread to hostclock::sending_cpu_of(awake).
 std::unique_ptr<hostclock::KeepAwake> keep_cpus_awake(bool on, const char* command);
-// The CPU to pin the sending thread to: the one `awake` keeps awake, or -1.
-inline int sending_cpu_of(const std::unique_ptr<hostclock::KeepAwake>& awake) {
-    return awake && !awake->cpus().empty() ? awake->cpus().front() : -1;
-}
 
 }  // namespace mirage::hil

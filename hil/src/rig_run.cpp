@@ -189,7 +189,7 @@ double rig_cpu_seconds(const RigRunOptions& o) {
 std::shared_ptr<udp::SharedSender> make_sender(const RigRunOptions& o) {
     udp::SharedSenderConfig sc;
     sc.fifo_priority = o.rt_priority;
-    if (o.awake && !o.awake->cpus().empty()) sc.cpu = o.awake->cpus().front();
+    sc.cpu = hostclock::sending_cpu_of(o.awake);
     auto sender = std::make_shared<udp::SharedSender>(sc);
     if ((o.rt_priority > 0 && !sender->fifo()) || (o.awake && !sender->fifo_error().empty()))
         std::fprintf(stderr, "mirage rig: sender: %s\n", sender->fifo_error().c_str());

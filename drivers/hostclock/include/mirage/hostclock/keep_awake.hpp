@@ -55,4 +55,9 @@ class KeepAwake {
     std::string warning_;
 };
 
+// The CPU a sending thread is pinned to: the first one `awake` keeps awake; -1 without one.
+inline int sending_cpu_of(const KeepAwake* awake) {
+    return awake && !awake->cpus().empty() ? awake->cpus().front() : -1;
+}
+
 }  // namespace mirage::hostclock
