@@ -30,17 +30,21 @@ TEST(SensorFaults, CellNeverTearsBetweenTwoSettings) {
     const FaultSettings a{10000, 1000, -32768, 10000, true, true, true};
     const FaultSettings b{};
     c.store(a);
-    std::atomic<bool> done{false};
+    // The writer starts once the reader reads, and the reader reads at least once: on a busy
+    // machine the writer could otherwise finish before the reader's first load.
+    std::atomic<bool> reading{false}, done{false};
     std::thread writer([&] {
+        while (!reading.load()) std::this_thread::yield();
         for (int i = 0; i < 200000; ++i) c.store(i % 2 ? a : b);
         done = true;
     });
     std::uint64_t loads = 0, torn = 0;
-    while (!done.load()) {
+    do {
         const FaultSettings f = c.load();
         torn += !(f == a || f == b);
         ++loads;
-    }
+        reading = true;
+    } while (!done.load());
     writer.join();
     EXPECT_GT(loads, 0u);
     EXPECT_EQ(torn, 0u);
