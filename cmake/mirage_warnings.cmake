@@ -22,8 +22,10 @@ function(mirage_set_warnings target)
     target_compile_options(${target} PRIVATE -Wno-sign-conversion)
   endif()
   # No code reads errno after a math call; without this, sqrt/floor/lround cannot be inlined
-  # in the per-pulse loops.
-  target_compile_options(${target} PRIVATE -fno-math-errno)
+  # in the per-pulse loops. No code unmasks floating-point traps or reads the exception flags;
+  # without -fno-trapping-math GCC will not compute both sides of a select, and a loop with one
+  # (exp_poly's range checks) stays scalar. Neither changes a result.
+  target_compile_options(${target} PRIVATE -fno-math-errno -fno-trapping-math)
   if(MIRAGE_NATIVE)
     target_compile_options(${target} PRIVATE -march=native)
   endif()
@@ -69,7 +71,7 @@ function(mirage_add_portable_library name)
   add_library(mirage_${name}_portable STATIC ${ARGN})
   target_include_directories(mirage_${name}_portable PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
   target_compile_options(mirage_${name}_portable PRIVATE -Wall -Wextra -Wconversion
-                         -Wimplicit-fallthrough -fno-math-errno)
+                         -Wimplicit-fallthrough -fno-math-errno -fno-trapping-math)
   if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
     target_compile_options(mirage_${name}_portable PRIVATE -Wno-sign-conversion)
   endif()

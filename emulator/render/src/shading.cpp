@@ -42,12 +42,11 @@ inline double series_tan(double x) {
 }
 
 // range[k] += sigma·z[k] (z may be null: no noise), then the nearest multiple of `resolution`
-// (0: none) as floor(range/resolution + ½). Branch-free so it vectorises: floor is a conversion
-// to int64 (GCC vectorises neither std::floor nor, in the same loop, the conversion back) of the
-// value clamped to [0, 1e15], so a range pushed below zero by the noise reads 0. `steps` is
-// scratch for n values.
+// (0: none) as floor(range/resolution + ½) of the value clamped to [0, 1e15], so a range pushed
+// below zero by the noise reads 0. Branch-free so it vectorises (std::floor and the selects do
+// under -fno-trapping-math, cmake/mirage_warnings.cmake).
 void noisy_ranges(double* __restrict range, const double* __restrict z, double sigma,
-                  double resolution, std::size_t n, std::int64_t* __restrict steps) {
+                  double resolution, std::size_t n) {
     if (z)
         for (std::size_t k = 0; k < n; ++k) range[k] += sigma * z[k];
     if (!(resolution > 0.0)) return;
@@ -56,9 +55,8 @@ void noisy_ranges(double* __restrict range, const double* __restrict z, double s
         double y = range[k] * inv + 0.5;
         y = y >= 0.0 ? y : 0.0;  // NaN too
         y = y <= 1e15 ? y : 1e15;
-        steps[k] = static_cast<std::int64_t>(y);
+        range[k] = std::floor(y) * resolution;
     }
-    for (std::size_t k = 0; k < n; ++k) range[k] = static_cast<double>(steps[k]) * resolution;
 }
 
 // Platform jitter (docs/physics.md eq. (15)) of n unit directions: each is turned by the angles
@@ -407,7 +405,6 @@ void PulseShader::detect(const std::vector<Hit>& hits, ShadeScratch& scratch) co
 void PulseShader::positions(const RayBatch& g, ShadeScratch& scratch) const {
     const std::size_t np = scratch.pending.size();
     scratch.range.resize(np);
-    scratch.steps.resize(np);
     for (int a = 0; a < 3; ++a) {
         scratch.dir[a].resize(np);
         scratch.at[a].resize(np);
@@ -421,8 +418,8 @@ void PulseShader::positions(const RayBatch& g, ShadeScratch& scratch) const {
     const double jitter = opt_.noise ? sensor_.noise.jitter_sigma_rad : 0.0;
     const double range_sigma = opt_.noise ? sensor_.noise.range_sigma_m : 0.0;
     noisy_ranges(scratch.range.data(), range_sigma > 0.0 ? scratch.normals[1].data() : nullptr,
-                 range_sigma, inv_resolution_ > 0.0 ? sensor_.receiver.range_resolution_m : 0.0, np,
-                 scratch.steps.data());
+                 range_sigma, inv_resolution_ > 0.0 ? sensor_.receiver.range_resolution_m : 0.0,
+                 np);
     if (jitter > 0.0) {
         jitter_directions(scratch.dir[0].data(), scratch.dir[1].data(), scratch.dir[2].data(),
                           scratch.normals[2].data(), scratch.normals[3].data(), jitter, np);

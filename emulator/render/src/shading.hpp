@@ -209,7 +209,6 @@ struct ShadeScratch {
     std::vector<double> n_other;  // and background photo-electrons
     std::vector<double> voids;    // and 1 for a void (N_laser < γ·ΔN), else 0
     std::vector<double> range;    // and measured range (noise, resolution)
-    std::vector<std::int64_t> steps;         // (that range in resolution steps)
     std::array<std::vector<double>, 3> dir;  // and beam direction, turned by the jitter
     std::array<std::vector<double>, 3> at;   // and point position (local frame)
     // The linear-mode detector's (waveform_returns.cpp): a pulse's arrivals as they are made,

@@ -325,10 +325,13 @@ double PulseShader::fit_deviation(const physics::Echo& e, const double* y, doubl
     // would keep it scalar: the compiler may not reorder the sum), then the sum in four lanes.
     constexpr std::size_t kChunk = 64;
     double model[kChunk], acc[4] = {0, 0, 0, 0};
+    // The sample's index as its chunk's start plus a 32-bit offset: exact, and the loop then
+    // converts 32-bit integers, which AVX2 vectorises (64-bit ones it does not).
     for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
         const std::size_t m = std::min(kChunk, n - k0);
-        for (std::size_t k = 0; k < m; ++k) {
-            const double u = double(e.first + std::int64_t(k0 + k)) * dt - e.time_ns;
+        const double start = double(e.first + std::int64_t(k0));
+        for (std::int32_t k = 0; k < std::int32_t(m); ++k) {
+            const double u = (start + double(k)) * dt - e.time_ns;
             model[k] = baseline + e.amplitude_counts * core::exp_poly(-u * u * inv);
         }
         for (std::size_t k = 0; k < m; ++k) {

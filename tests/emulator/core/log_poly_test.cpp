@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
+#include <vector>
 
 using mirage::core::log_poly;
 
@@ -15,6 +18,7 @@ double ulps(double a, double b) {
     const double ab = std::abs(b);
     return std::abs(a - b) / (std::nextafter(ab, HUGE_VAL) - ab);
 }
+[[gnu::noinline]] double one_call(double x) { return log_poly(x); }
 }  // namespace
 
 TEST(LogPoly, within_two_ulp_of_std_log_over_all_normal_doubles) {
@@ -42,4 +46,19 @@ TEST(LogPoly, exact_at_powers_of_two_and_one) {
     EXPECT_LE(ulps(log_poly(std::numeric_limits<double>::max()),
                    std::log(std::numeric_limits<double>::max())),
               1.0);
+}
+
+// The intensity map calls log_poly in a loop the compiler vectorises: it gives the bits of one
+// call at a time over the positive normal doubles.
+TEST(LogPoly, a_vectorised_loop_gives_the_bits_of_single_calls) {
+    std::mt19937_64 gen(5);
+    std::uniform_real_distribution<double> exponent(-1020.0, 1020.0);
+    std::vector<double> x{1.0, 0.5, 2.0, std::numeric_limits<double>::min(),
+                          std::numeric_limits<double>::max()};
+    for (int i = 0; i < 100'000; ++i) x.push_back(std::exp2(exponent(gen)));
+    std::vector<double> y(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) y[i] = log_poly(x[i]);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(y[i]), std::bit_cast<std::uint64_t>(one_call(x[i])))
+            << x[i];
 }

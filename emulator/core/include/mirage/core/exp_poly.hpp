@@ -34,8 +34,9 @@ inline double exp_poly(double x) {
     q = q * r + 1.0 / 6.0;
     q = q * r + 0.5;
     const double p = 1.0 + (r + r * r * q);
-    // 2^k for k in [−1022, 1023]: the biased exponent k + 1023 in bits 52–62.
-    const auto bits = static_cast<std::uint64_t>(static_cast<std::int64_t>(k) + 1023) << 52;
+    // 2^k for k in [−1022, 1023]: the biased exponent k + 1023 in bits 52–62 (k through int32:
+    // AVX2 turns doubles into 32-bit integers four at a time, into 64-bit ones not at all).
+    const auto bits = static_cast<std::uint64_t>(static_cast<std::int32_t>(k) + 1023) << 52;
     const double v = p * std::bit_cast<double>(bits);
     return x < -708.0 ? 0.0 : (x > 709.0 ? HUGE_VAL : (x == x ? v : x));
 }

@@ -18,7 +18,9 @@ inline double log_poly(double x) {
     const auto bits = std::bit_cast<std::uint64_t>(x);
     const double m1 = std::bit_cast<double>((bits & 0x000F'FFFF'FFFF'FFFFull) |
                                             0x3FF0'0000'0000'0000ull);  // in [1, 2)
-    const double e1 = static_cast<double>(static_cast<std::int64_t>(bits >> 52) - 1023);
+    // The exponent through int32: AVX2 turns 32-bit integers into doubles four at a time, 64-bit
+    // ones not at all.
+    const double e1 = static_cast<double>(static_cast<std::int32_t>(bits >> 52) - 1023);
     const bool high = m1 > kSqrt2;
     const double m = high ? 0.5 * m1 : m1;
     const double e = high ? e1 + 1.0 : e1;
