@@ -133,7 +133,9 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         if (opt_.message_latency) latency_.applied(nav_.take_applied());
         if (!fault.freeze_nav) frozen.reset();
         if (fault.freeze_nav && !frozen && win) frozen = win->trajectory.at(t_first);
-        if (frozen) {  // a frozen INS repeats its last pose whatever arrives
+        // A frozen INS repeats its last pose whatever arrives; stale navigation injected over
+        // it still wins (docs/control.md §5).
+        if (frozen && !fault.stale_nav) {
             wr.render(core::Trajectory::fixed(*frozen), k, pulses_per_window, pts, rstats);
             stale = false;
         } else if (win) {

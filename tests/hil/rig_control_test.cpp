@@ -544,8 +544,8 @@ TEST(RigControl, mbpoll_and_pymodbus_drive_the_rig_over_tcp_and_rtu) {
 }
 
 // A live rig (DIS) under control: freezing navigation holds one pose — the points then fit a
-// single pose of the circling car and not the truth at their times — and stale navigation
-// sends packets without returns, counted as a stale period.
+// single pose of the circling car and not the truth at their times — and stale navigation, even
+// over a frozen pose, sends packets without returns, counted as a stale period.
 TEST(RigControl, frozen_and_stale_navigation_on_a_live_rig) {
     TempDir tmp;
     { std::ofstream(tmp.file("yard.yaml")) << kScene; }
@@ -571,8 +571,8 @@ TEST(RigControl, frozen_and_stale_navigation_on_a_live_rig) {
     const std::size_t frozen_from = rx.count();
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     const auto frozen = rx.since(frozen_from);
-    ASSERT_EQ(mb.write(fault_hr(0, 2), 0), 1);
-    // Stale: packets go on, without returns; one stale period counted.
+    // Stale, injected over the frozen pose: packets go on, without returns; one stale period
+    // counted.
     ASSERT_EQ(mb.write(fault_hr(0, 5), 1), 1);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const std::size_t stale_from = rx.count();
