@@ -11,7 +11,7 @@
 namespace mirage::hil {
 namespace {
 
-struct Opts {
+struct LasInfoOpts {
     std::string path;
     std::string waveform_png;
     std::vector<std::uint64_t> points;
@@ -55,7 +55,7 @@ void print_waveforms(const las::LasFile& f) {
 void register_las_info(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "las-info", "Print a LAS file's header and validate it (exit 1 on problems)");
-    auto opts = std::make_shared<Opts>();
+    auto opts = std::make_shared<LasInfoOpts>();
     cmd->add_option("file", opts->path, "LAS file")->required()->check(CLI::ExistingFile);
     cmd->add_option("--waveform-png", opts->waveform_png,
                     "Draw chosen pulses' recorded waveforms, returns marked, into a PNG");

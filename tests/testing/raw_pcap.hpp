@@ -12,6 +12,8 @@ namespace mirage::test {
 
 using Bytes = std::vector<std::uint8_t>;
 
+inline constexpr std::uint32_t kEthernet = 1;  // LINKTYPE_ETHERNET, for write_raw_pcap
+
 inline void put16(Bytes& b, std::size_t at, unsigned v) {
     b[at] = static_cast<std::uint8_t>(v >> 8);
     b[at + 1] = static_cast<std::uint8_t>(v);

@@ -35,6 +35,12 @@ constexpr std::int64_t kIdleNs = 60'000'000'000;  // a silent TCP client is clos
 constexpr int kBurst = 32;                        // requests per client per poll round
 constexpr std::int64_t kBackoffMinNs = 100'000'000, kBackoffMaxNs = 5'000'000'000;
 
+}  // namespace
+
+// The types of Impl's fields live in a named namespace: a field whose type is in an anonymous
+// namespace is -Wsubobject-linkage once this file is not the main file (unity builds).
+namespace modbus_detail {
+
 struct ModbusDeleter {
     void operator()(modbus_t* c) const {
         modbus_close(c);
@@ -47,19 +53,27 @@ struct MappingDeleter {
 using Ctx = std::unique_ptr<modbus_t, ModbusDeleter>;
 using Mapping = std::unique_ptr<modbus_mapping_t, MappingDeleter>;
 
-Mapping make_mapping(const ControlModel& m) {
-    Mapping map(modbus_mapping_new_start_address(0, 0, 0, 0, 0, int(m.holding_window()), 0,
-                                                 int(m.input_window())));
-    if (!map) throw IoError("control: cannot allocate the Modbus register mapping");
-    return map;
-}
-
 struct Client {
     int fd = -1;
     std::array<std::uint8_t, kMaxTcpAdu> buf{};
     std::size_t have = 0;
     std::int64_t last_ns = 0;
 };
+
+}  // namespace modbus_detail
+
+using modbus_detail::Client;
+using modbus_detail::Ctx;
+using modbus_detail::Mapping;
+
+namespace {
+
+Mapping make_mapping(const ControlModel& m) {
+    Mapping map(modbus_mapping_new_start_address(0, 0, 0, 0, 0, int(m.holding_window()), 0,
+                                                 int(m.input_window())));
+    if (!map) throw IoError("control: cannot allocate the Modbus register mapping");
+    return map;
+}
 
 }  // namespace
 

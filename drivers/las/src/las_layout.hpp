@@ -53,6 +53,7 @@ inline constexpr std::uint16_t kGlobalEncodingWaveExternal = 1u << 2;
 inline constexpr std::size_t kWaveDescriptorSize = 26;
 inline constexpr std::size_t kExtraBytesDescriptorSize = 192;
 inline constexpr std::size_t kWavePacketFieldsSize = 29;  // index, offset, size, location, dx–dz
+inline constexpr double kScanAngleUnit_deg = 0.006;  // scan angle unit, formats 6–10 (Table 13)
 
 // Where formats 4, 5, 9 and 10 keep their wave packet fields (Tables 11, 12, 16, 17); 0: none.
 inline constexpr std::size_t wave_fields_at(std::uint8_t format) {

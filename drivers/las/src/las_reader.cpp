@@ -20,7 +20,6 @@ namespace {
 
 using namespace layout;
 
-constexpr double kScanAngleUnit_deg = 0.006;
 constexpr const char* kAxis[3] = {"x", "y", "z"};
 
 std::string printable(const char* s, std::size_t n) {

@@ -38,7 +38,6 @@ void put_rgb(std::uint8_t* at, const core::PointRecord& p) {
 }
 
 constexpr double kOffsetGrid_m = 1000.0;
-constexpr double kScanAngleUnit_deg = 0.006;  // formats 6–10 (Table 13)
 
 // Full positional write; returns the bytes written and sets err on failure. Signal-safe.
 std::size_t pwrite_all(int fd, const std::uint8_t* data, std::size_t n, off_t pos,

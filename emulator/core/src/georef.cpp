@@ -11,7 +11,11 @@
 #include "mirage/core/error.hpp"
 
 namespace mirage::core {
-namespace {
+
+// The types of GeodeticConverter::Impl's fields live in a named namespace: a field whose type
+// is in an anonymous namespace is -Wsubobject-linkage once this file is not the main file
+// (unity builds).
+namespace georef_detail {
 
 // One PROJ context per call: contexts are not thread-safe, and georeferencing happens at
 // load time only, so there is nothing to gain from sharing one.
@@ -55,6 +59,13 @@ struct PjDeleter {
     void operator()(PJ* p) const { proj_destroy(p); }
 };
 using PjPtr = std::unique_ptr<PJ, PjDeleter>;
+
+}  // namespace georef_detail
+
+using georef_detail::PjPtr;
+using georef_detail::ProjContext;
+
+namespace {
 
 [[noreturn]] void fail(int epsg, const std::string& why) {
     throw ConfigError("georef: EPSG:" + std::to_string(epsg) + ": " + why);

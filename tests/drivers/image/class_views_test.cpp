@@ -10,31 +10,29 @@
 #include <vector>
 
 #include "mirage/core/error.hpp"
+#include "rgb_pixel.hpp"
 
 namespace mirage::image {
 namespace {
 
-core::PointRecord at(double x, double y, double z, std::uint8_t cls) {
+core::PointRecord classified_at(double x, double y, double z, std::uint8_t cls) {
     core::PointRecord p;
     p.x = x, p.y = y, p.z = z;
     p.classification = cls;
     return p;
 }
 
-std::array<std::uint8_t, 3> pixel(const RgbImage& img, int row, int col) {
-    const std::uint8_t* p = img.at(row, col);
-    return {p[0], p[1], p[2]};
-}
+using test::pixel;
 
 TEST(ClassViews, top_down_keeps_the_lowest_point_that_is_not_noise) {
     // A 4 × 2 m frame of 1 m pixels centred on (10, 20), its long side along +y (heading 90°).
     const GroundFrame f{{10, 20}, std::numbers::pi / 2, 4, 2, 1.0, 3};
     const std::vector<core::PointRecord> pts = {
-        at(10.2, 21.5, 3.0, 66),   // net over ...
-        at(10.3, 21.6, 1.0, 65),   // ... the vehicle: lowest wins
-        at(10.3, 21.6, -5.0, 18),  // noise below the ground: skipped
-        at(9.5, 18.5, 0.0, 2),     // ground at the frame's start, on its left
-        at(30, 30, 0.0, 2),        // outside
+        classified_at(10.2, 21.5, 3.0, 66),   // net over ...
+        classified_at(10.3, 21.6, 1.0, 65),   // ... the vehicle: lowest wins
+        classified_at(10.3, 21.6, -5.0, 18),  // noise below the ground: skipped
+        classified_at(9.5, 18.5, 0.0, 2),     // ground at the frame's start, on its left
+        classified_at(30, 30, 0.0, 2),        // outside
     };
     const RgbImage img = render_lowest_by_class(pts, f);
     ASSERT_EQ(img.width, 12);  // 4 pixels × zoom 3
@@ -53,8 +51,9 @@ TEST(ClassViews, top_down_keeps_the_lowest_point_that_is_not_noise) {
 
 TEST(ClassViews, side_view_shows_the_most_frequent_class_in_the_slab) {
     const GroundFrame f{{0, 0}, 0.0, 2, 1, 0.5};
-    std::vector<core::PointRecord> pts = {at(0.1, 0.1, 0.1, 66), at(0.2, -0.2, 0.2, 2),
-                                          at(0.3, 0.4, 0.3, 2), at(0.1, 0.6, 0.1, 65)};
+    std::vector<core::PointRecord> pts = {
+        classified_at(0.1, 0.1, 0.1, 66), classified_at(0.2, -0.2, 0.2, 2),
+        classified_at(0.3, 0.4, 0.3, 2), classified_at(0.1, 0.6, 0.1, 65)};
     const RgbImage img = render_section_by_class(pts, f, -1.0, 1.0);
     ASSERT_EQ(img.width, 4);
     ASSERT_EQ(img.height, 4);

@@ -9,18 +9,15 @@
 #include "las_test_points.hpp"
 #include "mirage/core/error.hpp"
 #include "mirage/image/png_writer.hpp"
+#include "rgb_pixel.hpp"
 #include "test_paths.hpp"
 
 namespace mirage::image {
 namespace {
 
+using test::pixel;
 using test::TempDir;
 using Rgb = std::array<std::uint8_t, 3>;
-
-Rgb pixel(const RgbImage& img, int row, int col) {
-    const std::uint8_t* p = img.at(row, col);
-    return {p[0], p[1], p[2]};
-}
 
 int lit_pixels(const RgbImage& img) {
     int n = 0;

@@ -11,6 +11,7 @@
 #include "mirage/pcap/pcap.hpp"
 #include "mirage/pcap/writer.hpp"
 #include "raw_pcap.hpp"
+#include "read_all.hpp"
 #include "test_paths.hpp"
 
 namespace {
@@ -19,15 +20,6 @@ using mirage::pcap::FrameStatus;
 using mirage::pcap::Reader;
 using mirage::pcap::UdpDatagram;
 using namespace mirage::test;
-
-constexpr std::uint32_t kEthernet = 1;
-
-std::vector<UdpDatagram> read_all(Reader& r) {
-    std::vector<UdpDatagram> v;
-    UdpDatagram d;
-    while (r.next(d)) v.push_back(d);
-    return v;
-}
 
 Bytes ipv6(std::uint8_t next, const Bytes& body, std::uint8_t src_last = 1) {
     Bytes h(40, 0);

@@ -7,6 +7,7 @@
 #include "mirage/core/error.hpp"
 #include "mirage/pcap/pcap.hpp"
 #include "raw_pcap.hpp"
+#include "read_all.hpp"
 #include "test_paths.hpp"
 
 namespace {
@@ -16,18 +17,10 @@ using mirage::pcap::Reader;
 using mirage::pcap::UdpDatagram;
 using namespace mirage::test;
 
-constexpr std::uint32_t kEthernet = 1;
 constexpr std::uint32_t kLinuxSll = 113;
 
 std::uint64_t total(const Reader& r) {
     return std::accumulate(r.counts().begin(), r.counts().end(), std::uint64_t{0});
-}
-
-std::vector<UdpDatagram> read_all(Reader& r) {
-    std::vector<UdpDatagram> v;
-    UdpDatagram d;
-    while (r.next(d)) v.push_back(d);
-    return v;
 }
 
 Bytes udp_frame(const Bytes& payload, std::uint16_t dst_port = 2368) {

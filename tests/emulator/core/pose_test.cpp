@@ -6,12 +6,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "test_units.hpp"
+
 using namespace mirage::core;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+using mirage::test::kDeg;
 
 Eigen::Matrix3d rx(double a) {
     Eigen::Matrix3d m;

@@ -7,12 +7,13 @@
 #include <random>
 
 #include "mirage/core/error.hpp"
+#include "test_units.hpp"
 
 using namespace mirage::core;
 
 namespace {
 
-constexpr std::int64_t kS = kNsPerSecond;
+using mirage::test::kS;
 constexpr std::int64_t kUnix2024 = 1'704'067'200;  // 2024-01-01T00:00:00Z
 
 std::int64_t ns(GpsTime t) { return t.time_since_epoch().count(); }

@@ -8,13 +8,14 @@
 #include "mirage/core/error.hpp"
 #include "mirage/core/trajectory.hpp"
 #include "test_paths.hpp"
+#include "test_units.hpp"
 
 using namespace mirage::core;
 using mirage::test::TempDir;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mirage::test::kDeg;
 
 std::string write(const TempDir& dir, const std::string& text, const std::string& name = "t.csv") {
     const std::string path = dir.file(name);

@@ -8,13 +8,14 @@
 #include <random>
 
 #include "mirage/core/error.hpp"
+#include "test_units.hpp"
 
 using namespace mirage::core;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr std::int64_t kS = kNsPerSecond;
+using mirage::test::kDeg;
+using mirage::test::kS;
 const GpsTime kT0 = GpsTime{Nanos{1'388'102'418 * kS}};  // 2024-01-01T00:00:00Z
 
 StampedPose sample(GpsTime t, Eigen::Vector3d p, double yaw_deg = 0) {

@@ -9,15 +9,13 @@
 using mirage::physics::monostatic_brdf;
 using mirage::scene::Material;
 
-namespace {
-constexpr double kPi = std::numbers::pi;
-}
+using std::numbers::pi;
 
 TEST(Brdf, lambertian_is_rho_over_pi_at_every_incidence) {
     Material m;
     m.reflectance = 0.37;
     for (double c : {1.0, 0.9, 0.5, 0.1, 0.01})
-        EXPECT_NEAR(monostatic_brdf(m, c), 0.37 / kPi, 1e-15) << c;
+        EXPECT_NEAR(monostatic_brdf(m, c), 0.37 / pi, 1e-15) << c;
 }
 
 TEST(Brdf, facing_away_returns_zero) {
@@ -35,7 +33,7 @@ TEST(Brdf, retroreflective_is_much_larger_than_lambertian) {
     retro.retroreflective = true;
     retro.retro_gain = 100.0;
     for (double c : {1.0, 0.7, 0.3}) {
-        EXPECT_NEAR(monostatic_brdf(retro, c), 0.5 / kPi + 100.0, 1e-12);
+        EXPECT_NEAR(monostatic_brdf(retro, c), 0.5 / pi + 100.0, 1e-12);
         EXPECT_GT(monostatic_brdf(retro, c), 100.0 * monostatic_brdf(lam, c));
     }
 }
@@ -46,16 +44,16 @@ TEST(Brdf, specular_lobe_peaks_at_normal_incidence_and_vanishes_past_45_degrees)
     m.specular = 0.3;
     m.specular_exponent = 20.0;
     // Normal incidence: the mirror direction is the view direction, cos 2θ = 1.
-    EXPECT_NEAR(monostatic_brdf(m, 1.0), 0.2 / kPi + 0.3 * 22.0 / (2.0 * kPi), 1e-12);
+    EXPECT_NEAR(monostatic_brdf(m, 1.0), 0.2 / pi + 0.3 * 22.0 / (2.0 * pi), 1e-12);
     // Closed form at θ = 10°: cos^n(2θ).
-    const double th = 10.0 * kPi / 180.0;
+    const double th = 10.0 * pi / 180.0;
     EXPECT_NEAR(monostatic_brdf(m, std::cos(th)),
-                0.2 / kPi + 0.3 * 22.0 / (2.0 * kPi) * std::pow(std::cos(2.0 * th), 20.0), 1e-12);
+                0.2 / pi + 0.3 * 22.0 / (2.0 * pi) * std::pow(std::cos(2.0 * th), 20.0), 1e-12);
     // Strictly decreasing from 0° to 30° (beyond, cos^20(2θ) < 1e-6 of the peak and soon
     // below double resolution next to ρ/π), non-increasing to 45°, then only the diffuse part.
     double prev = monostatic_brdf(m, 1.0);
     for (int deg = 1; deg < 45; ++deg) {
-        const double f = monostatic_brdf(m, std::cos(deg * kPi / 180.0));
+        const double f = monostatic_brdf(m, std::cos(deg * pi / 180.0));
         if (deg <= 30)
             EXPECT_LT(f, prev) << deg;
         else
@@ -63,5 +61,5 @@ TEST(Brdf, specular_lobe_peaks_at_normal_incidence_and_vanishes_past_45_degrees)
         prev = f;
     }
     for (int deg = 45; deg <= 89; deg += 4)
-        EXPECT_NEAR(monostatic_brdf(m, std::cos(deg * kPi / 180.0)), 0.2 / kPi, 1e-12) << deg;
+        EXPECT_NEAR(monostatic_brdf(m, std::cos(deg * pi / 180.0)), 0.2 / pi, 1e-12) << deg;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "mirage/core/error.hpp"
+#include "test_units.hpp"
 
 namespace mp = mirage::physics;
 using mirage::sensor::BeamParams;
@@ -19,7 +20,7 @@ using mirage::sensor::ReceiverParams;
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+using mirage::test::kDeg;
 
 BeamParams test_beam() {
     BeamParams b;

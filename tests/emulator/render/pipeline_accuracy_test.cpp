@@ -17,8 +17,6 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 // Random directions within `half_angle` of +x.
 std::vector<Eigen::Vector3f> cone(std::size_t n, double half_angle, std::uint32_t seed) {
     std::mt19937 rng(seed);

@@ -13,9 +13,6 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kC = physics::kSpeedOfLightMPerS;
-
 sensor::SensorModel fan_sensor(std::vector<Eigen::Vector3f> dirs, int sub_rays, bool adaptive,
                                double divergence_rad = 3e-3) {
     auto s = test_sensor(std::make_shared<FanPattern>(std::move(dirs), 1000));

@@ -20,8 +20,7 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kHeight = 1.5;  // sensor above the ground, m
+constexpr double kSensorHeight = 1.5;  // sensor above the ground, m
 
 // Ground (ρ 0.3) 1.5 m below the sensor; with `poles`, 150 vertical plates (ρ 0.5, 0.1–0.6 m
 // wide, 5 m tall, facing the sensor) at 10–40 m, placed at random (fixed seed) so the beam meets
@@ -36,7 +35,7 @@ scene::Scene ground_scene(bool poles) {
     plate.name = "pole";
     plate.reflectance = 0.5;
     s.add_material(plate);
-    s.add_mesh(quad(400.0, Eigen::Affine3d(Eigen::Translation3d(0, 0, -kHeight))));
+    s.add_mesh(quad(400.0, Eigen::Affine3d(Eigen::Translation3d(0, 0, -kSensorHeight))));
     std::uint64_t state = 19;
     auto uniform = [&state] {  // SplitMix64: the same draws with every standard library
         std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);

@@ -13,9 +13,6 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kC = physics::kSpeedOfLightMPerS;
-
 sensor::SensorModel timed_sensor(std::vector<Eigen::Vector3f> dirs, int sub_rays,
                                  double divergence_rad, double footprint_radius,
                                  sensor::EchoTiming timing, double fraction = 0.5) {

@@ -48,10 +48,6 @@ std::pair<double, double> moments(const Points& pts, double n0) {
     return {mean, ss / n - mean * mean};
 }
 
-const char* name(sensor::DetectorKind k) {
-    return k == sensor::DetectorKind::Linear ? "waveform" : "discrete";
-}
-
 TEST(PipelineEnergy, returns_vary_with_the_pulse_energy_by_sigma) {
     const double sigma = 0.1;
     for (const auto kind : {sensor::DetectorKind::Discrete, sensor::DetectorKind::Linear}) {
@@ -60,8 +56,8 @@ TEST(PipelineEnergy, returns_vary_with_the_pulse_energy_by_sigma) {
         ASSERT_EQ(varied.size(), 100'000u);
         const auto [mean, var] = moments(varied, fixed.at(0).n_laser);
         const double sd = std::sqrt(var);
-        std::printf("%s: mean %.5f, relative sd %.5f against sigma %.3f (%+.2f %%)\n", name(kind),
-                    mean, sd, sigma, 100 * (sd / sigma - 1));
+        std::printf("%s: mean %.5f, relative sd %.5f against sigma %.3f (%+.2f %%)\n",
+                    detector_name(kind), mean, sd, sigma, 100 * (sd / sigma - 1));
         EXPECT_NEAR(mean, 1.0, 0.001);
         EXPECT_NEAR(sd / sigma, 1.0, 0.03);
     }
@@ -81,7 +77,7 @@ TEST(PipelineEnergy, speckle_adds_relative_variance_1_over_m) {
         std::printf(
             "%s, M = %.0f: mean %.5f, speckle's relative variance %.5f against 1/M = %.3f (%+.2f "
             "%%; the detector's own %.5f)\n",
-            name(kind), m, mean, speckle_var, 1 / m, 100 * (speckle_var * m - 1), var0);
+            detector_name(kind), m, mean, speckle_var, 1 / m, 100 * (speckle_var * m - 1), var0);
         EXPECT_NEAR(mean, mean0, 0.01);
         EXPECT_NEAR(speckle_var * m, 1.0, 0.03);
     }

@@ -5,13 +5,22 @@
 #include <numbers>
 #include <vector>
 
+#include "mirage/physics/radiometry.hpp"
 #include "mirage/physics/waveform.hpp"
 #include "mirage/render/embree_renderer.hpp"
 #include "mirage/render/pipeline.hpp"
 #include "mirage/scene/scene.hpp"
 #include "mirage/sensor/sensor.hpp"
+#include "test_units.hpp"
 
 namespace mirage::test {
+
+inline constexpr double kC = physics::kSpeedOfLightMPerS;  // m/s
+
+// The detector kind as the tests print it.
+inline const char* detector_name(sensor::DetectorKind k) {
+    return k == sensor::DetectorKind::Linear ? "waveform" : "discrete";
+}
 
 // Pulse k fires direction dirs[k % n] at t = k · period.
 class FanPattern : public sensor::ScanPattern {

@@ -12,8 +12,6 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kC = physics::kSpeedOfLightMPerS;
-
 sensor::SensorModel fog_sensor() {
     auto s = test_sensor(std::make_shared<FanPattern>(std::vector{unit(1, 0, 0)}, 1000));
     s.beam.pulse_width_s = 4e-9;

@@ -12,7 +12,7 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using std::numbers::pi;
 
 struct Layer {
     scene::Material material;
@@ -69,9 +69,6 @@ double electrons_at(const Rendered& run, std::uint64_t pulse, double range) {
 
 const sensor::DetectorKind kDetectors[] = {sensor::DetectorKind::Discrete,
                                            sensor::DetectorKind::Linear};
-const char* name(sensor::DetectorKind k) {
-    return k == sensor::DetectorKind::Linear ? "waveform" : "discrete";
-}
 
 // Leaf (ρ_l, τ) at R1 over the footprint, ground ρ_g at R2, both square to the beam: the returns'
 // energies stand as E2/E1 = τ²·ρ_g·R1² / (ρ_l·R2²) (two passes through the leaf; each sub-ray's
@@ -83,7 +80,7 @@ TEST(PipelinePaths, leaf_over_ground_returns_follow_reflectance_and_transmittanc
         const auto scene = layered(
             {{material(rho_l, tau), plane_frame(r1, 0)}, {material(rho_g), plane_frame(r2, 0)}});
         const Rendered run = render_scene(scene, sensor);
-        ASSERT_EQ(run.points.size(), 200u) << name(kind);
+        ASSERT_EQ(run.points.size(), 200u) << detector_name(kind);
         double worst = 0;
         const double expected = tau * tau * rho_g * r1 * r1 / (rho_l * r2 * r2);
         for (std::uint64_t k = 0; k < 100; ++k) {
@@ -91,13 +88,13 @@ TEST(PipelinePaths, leaf_over_ground_returns_follow_reflectance_and_transmittanc
             worst = std::max(worst, std::abs(ratio / expected - 1));
         }
         std::printf("%s: E2/E1 worst %.4f %% from tau^2 rho_g R1^2/(rho_l R2^2) = %.5f\n",
-                    name(kind), 100 * worst, expected);
-        EXPECT_LT(worst, 0.01) << name(kind);
+                    detector_name(kind), 100 * worst, expected);
+        EXPECT_LT(worst, 0.01) << detector_name(kind);
         const auto opaque = layered(
             {{material(rho_l, 0), plane_frame(r1, 0)}, {material(rho_g), plane_frame(r2, 0)}});
         const Rendered none = render_scene(opaque, sensor);
-        EXPECT_EQ(none.points.size(), 100u) << name(kind);
-        for (const auto& p : none.points) ASSERT_NEAR(p.range_m, r1, 0.01) << name(kind);
+        EXPECT_EQ(none.points.size(), 100u) << detector_name(kind);
+        for (const auto& p : none.points) ASSERT_NEAR(p.range_m, r1, 0.01) << detector_name(kind);
     }
 }
 
@@ -114,15 +111,15 @@ TEST(PipelinePaths, a_glass_pane_passes_one_minus_r_squared_each_way) {
         const Rendered bare = render_scene(layered({{material(0.5), plane_frame(35, 0)}}), sensor);
         const Rendered pane = render_scene(
             layered({{glass, plane_frame(20, 0)}, {material(0.5), plane_frame(35, 0)}}), sensor);
-        ASSERT_EQ(pane.points.size(), 100u) << name(kind);
+        ASSERT_EQ(pane.points.size(), 100u) << detector_name(kind);
         double worst = 0;
         for (std::uint64_t k = 0; k < 100; ++k) {
             const double one_way = std::sqrt(electrons_at(pane, k, 35) / electrons_at(bare, k, 35));
             worst = std::max(worst, std::abs(one_way / 0.9216 - 1));
         }
-        std::printf("%s: pane one-way transmission worst %.4f %% from 0.9216\n", name(kind),
-                    100 * worst);
-        EXPECT_LT(worst, 0.001) << name(kind);
+        std::printf("%s: pane one-way transmission worst %.4f %% from 0.9216\n",
+                    detector_name(kind), 100 * worst);
+        EXPECT_LT(worst, 0.001) << detector_name(kind);
     }
 }
 
@@ -146,7 +143,7 @@ TEST(PipelinePaths, a_tilted_pane_passes_what_fresnel_leaves_at_its_incidence) {
     for (const auto kind : kDetectors) {
         const auto sensor = path_sensor(kind);
         const Rendered bare = render_scene(layered({{material(0.5), plane_frame(35, 0)}}), sensor);
-        for (const double tilt : {0.0, kPi / 6, std::atan(n), 70 * kPi / 180}) {
+        for (const double tilt : {0.0, pi / 6, std::atan(n), 70 * pi / 180}) {
             const Eigen::Affine3d frame = plane_frame(20, tilt);
             const Eigen::Vector3d normal = frame.linear() * Eigen::Vector3d::UnitZ();
             const Rendered pane = render_scene(
@@ -160,8 +157,8 @@ TEST(PipelinePaths, a_tilted_pane_passes_what_fresnel_leaves_at_its_incidence) {
                 worst = std::max(worst, std::abs(got / one_way(theta) - 1));
             }
             std::printf("%s: pane at %4.1f deg passes %.4f one way, worst %.4f %% from Fresnel\n",
-                        name(kind), tilt * 180 / kPi, one_way(tilt), 100 * worst);
-            EXPECT_LT(worst, 0.001) << name(kind) << " " << tilt;
+                        detector_name(kind), tilt * 180 / pi, one_way(tilt), 100 * worst);
+            EXPECT_LT(worst, 0.001) << detector_name(kind) << " " << tilt;
         }
     }
 }
@@ -171,7 +168,7 @@ TEST(PipelinePaths, a_tilted_pane_passes_what_fresnel_leaves_at_its_incidence) {
 // wall's at 21 m times m².
 TEST(PipelinePaths, a_target_seen_in_a_mirror_appears_at_its_mirror_image) {
     const double d1 = 12, d2 = 9, m = 0.8;
-    const Eigen::Affine3d mirror_frame = plane_frame(d1, kPi / 4);
+    const Eigen::Affine3d mirror_frame = plane_frame(d1, pi / 4);
     const Eigen::Vector3d n = mirror_frame.linear() * Eigen::Vector3d::UnitZ();
     const Eigen::Vector3d turned = Eigen::Vector3d::UnitX() - 2 * n.x() * n;
     // The wall square to the turned beam, d2 from the mirror.
@@ -184,15 +181,16 @@ TEST(PipelinePaths, a_target_seen_in_a_mirror_appears_at_its_mirror_image) {
             layered({{material(0, 0, m), mirror_frame}, {material(0.5), wall}}), sensor, 1);
         const Rendered direct =
             render_scene(layered({{material(0.5), plane_frame(d1 + d2, 0)}}), sensor, 1);
-        ASSERT_EQ(seen.points.size(), 1u) << name(kind);
+        ASSERT_EQ(seen.points.size(), 1u) << detector_name(kind);
         const auto& p = seen.points[0];
         std::printf("%s: ghost at (%.4f, %.4f, %.4f), range %.4f m; energy %.5f of m^2 x direct\n",
-                    name(kind), p.x, p.y, p.z, p.range_m,
+                    detector_name(kind), p.x, p.y, p.z, p.range_m,
                     p.n_laser / (m * m * direct.points.at(0).n_laser));
-        EXPECT_NEAR(p.range_m, d1 + d2, 0.01) << name(kind);
-        EXPECT_NEAR(p.x, d1 + d2, 0.01) << name(kind);
-        EXPECT_NEAR(p.y, 0, 0.01) << name(kind);
-        EXPECT_NEAR(p.n_laser / (m * m * direct.points.at(0).n_laser), 1.0, 0.01) << name(kind);
+        EXPECT_NEAR(p.range_m, d1 + d2, 0.01) << detector_name(kind);
+        EXPECT_NEAR(p.x, d1 + d2, 0.01) << detector_name(kind);
+        EXPECT_NEAR(p.y, 0, 0.01) << detector_name(kind);
+        EXPECT_NEAR(p.n_laser / (m * m * direct.points.at(0).n_laser), 1.0, 0.01)
+            << detector_name(kind);
     }
 }
 

@@ -14,9 +14,6 @@
 namespace mirage::test {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kC = physics::kSpeedOfLightMPerS;
-
 render::RenderOptions options(std::uint64_t pulses, bool noise, int threads) {
     render::RenderOptions o;
     o.noise = noise;

@@ -9,11 +9,12 @@
 
 #include "mirage/core/error.hpp"
 #include "mirage/sensor/sensor.hpp"
+#include "test_units.hpp"
 
 namespace mirage::sensor {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mirage::test::kDeg;
 
 std::vector<PulseSpec> fire(const SensorModel& m, std::uint64_t first, std::size_t n) {
     std::vector<PulseSpec> out(n);

@@ -105,10 +105,6 @@ std::string_view next_token(std::string_view& s) {
     return tok;
 }
 
-void append_hex(std::string& out, std::uint32_t v, int digits) {
-    for (int i = digits - 1; i >= 0; --i) out.push_back(detail::kHexUpper[(v >> (4 * i)) & 0xFu]);
-}
-
 }  // namespace
 
 const char* to_string(CandumpStatus s) {
@@ -171,11 +167,11 @@ std::string format_candump_line(const CandumpRecord& rec, bool nanoseconds) {
     s.append(rec.interface);
     s.push_back(' ');
     if (f.error) {
-        append_hex(s, (f.id & 0x1FFF'FFFFu) | kCanErrFlag, 8);
+        detail::append_hex(s, (f.id & 0x1FFF'FFFFu) | kCanErrFlag, 8);
     } else if (f.extended) {
-        append_hex(s, f.id & 0x1FFF'FFFFu, 8);
+        detail::append_hex(s, f.id & 0x1FFF'FFFFu, 8);
     } else {
-        append_hex(s, f.id & 0x7FFu, 3);
+        detail::append_hex(s, f.id & 0x7FFu, 3);
     }
     s.push_back('#');
     const std::uint8_t len = f.len > 8 ? std::uint8_t{8} : f.len;
@@ -183,7 +179,7 @@ std::string format_candump_line(const CandumpRecord& rec, bool nanoseconds) {
         s.push_back('R');
         if (len > 0) s.push_back(static_cast<char>('0' + len));
     } else {
-        for (std::size_t i = 0; i < len; ++i) append_hex(s, f.data[i], 2);
+        for (std::size_t i = 0; i < len; ++i) detail::append_hex(s, f.data[i], 2);
     }
     if (len == 8 && rec.raw_dlc >= 9 && rec.raw_dlc <= 15) {
         s.push_back('_');

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 // Hex digits shared by the slcan and candump text codecs (internal).
@@ -26,6 +27,11 @@ inline bool parse_hex(std::string_view s, std::uint32_t& out) {
     }
     out = v;
     return true;
+}
+
+// The low `digits` hex digits of v, most significant first, upper case.
+inline void append_hex(std::string& out, std::uint32_t v, int digits) {
+    for (int i = digits - 1; i >= 0; --i) out.push_back(kHexUpper[(v >> (4 * i)) & 0xFu]);
 }
 
 }  // namespace mirage::navcan::detail

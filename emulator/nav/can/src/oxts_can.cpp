@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "bits.hpp"
+#include "frames.hpp"
 
 namespace mirage::navcan {
 namespace {
@@ -16,23 +17,9 @@ constexpr std::int64_t kNsPerDay = 86'400 * core::kNsPerSecond;
 // Days from 1970-01-01 to the GPS epoch 1980-01-06.
 const std::int64_t kGpsEpochDays = detail::days_from_civil(1980, 1, 6);
 
-bool matches(const nav::CanFrame& f, std::uint32_t id, bool extended) {
-    return id != 0 && f.id == id && f.extended == extended;
-}
-
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
     const std::int64_t q = a / b;
     return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
-}
-
-nav::CanFrame make_frame(std::uint32_t id, bool extended, std::uint8_t len,
-                         const detail::Bytes8& data) {
-    nav::CanFrame f;
-    f.id = id;
-    f.extended = extended;
-    f.len = len;
-    f.data = data;
-    return f;
 }
 
 }  // namespace
@@ -60,7 +47,7 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
     };
     nav::NavSample& s = group_;
 
-    if (matches(f, ids.date_time, ext)) {
+    if (detail::matches(f, ids.date_time, ext)) {
         part = kDateTime;
         if (!need(8)) return false;
         const auto year = static_cast<std::int64_t>(d[1]) * 100 + d[0];
@@ -76,7 +63,7 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
                         static_cast<std::int64_t>(hsec) * 10'000'000;
         return true;
     }
-    if (matches(f, ids.milli_time, ext)) {
+    if (detail::matches(f, ids.milli_time, ext)) {
         part = kMilliTime;
         if (!need(6)) return false;
         const std::int64_t ms = detail::get_s(d, 0, 48);
@@ -86,7 +73,7 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
         if (f.len >= 7) utc_offset_s_ = static_cast<int>(detail::get_s(d, 48, 8));
         return true;
     }
-    if (matches(f, ids.lat_lon, ext)) {
+    if (detail::matches(f, ids.lat_lon, ext)) {
         part = kLatLon;
         if (!need(8)) return false;
         const std::int64_t lat = detail::get_s(d, 0, 32), lon = detail::get_s(d, 32, 32);
@@ -98,13 +85,13 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
         s.lon_deg = static_cast<double>(lon) * 1e-7;
         return true;
     }
-    if (matches(f, ids.altitude, ext)) {
+    if (detail::matches(f, ids.altitude, ext)) {
         part = kAlt;
         if (!need(4)) return false;
         s.height_m = static_cast<double>(detail::get_s(d, 0, 32)) * 1e-3;
         return true;
     }
-    if (matches(f, ids.velocity, ext)) {
+    if (detail::matches(f, ids.velocity, ext)) {
         part = kVel;
         if (!need(6)) return false;
         // Already north, east, down (§7.1): no sign change.
@@ -113,7 +100,7 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
                               static_cast<double>(detail::get_s(d, 32, 16)) * 0.01};
         return true;
     }
-    if (matches(f, ids.heading_pitch_roll, ext)) {
+    if (detail::matches(f, ids.heading_pitch_roll, ext)) {
         part = kHpr;
         if (!need(6)) return false;
         const std::uint64_t heading = detail::get_u(d, 0, 16);
@@ -127,7 +114,7 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
         s.roll_rad = static_cast<double>(roll) * 0.01 * kDegToRad;
         return true;
     }
-    if (matches(f, ids.accel_vehicle, ext)) {
+    if (detail::matches(f, ids.accel_vehicle, ext)) {
         part = kAccel;
         if (!need(6)) return false;
         s.accel_frd_mps2 = {static_cast<double>(detail::get_s(d, 0, 16)) * 0.01,
@@ -135,7 +122,7 @@ bool OxtsCanDecoder::decode_into(const nav::CanFrame& f, std::uint32_t& part) {
                             static_cast<double>(detail::get_s(d, 32, 16)) * 0.01};
         return true;
     }
-    if (matches(f, ids.rate_vehicle, ext)) {
+    if (detail::matches(f, ids.rate_vehicle, ext)) {
         part = kRate;
         if (!need(6)) return false;
         s.rate_frd_radps = {static_cast<double>(detail::get_s(d, 0, 16)) * 0.01 * kDegToRad,
@@ -299,14 +286,14 @@ std::vector<nav::CanFrame> oxts_can_encode(const nav::NavSample& s, const OxtsCa
             d[5] = static_cast<std::uint8_t>(sec_of_day % 60);
             d[6] = static_cast<std::uint8_t>((sec_of_day / 60) % 60);
             d[7] = static_cast<std::uint8_t>(sec_of_day / 3600);
-            out.push_back(make_frame(ids.date_time, ext, 8, d));
+            out.push_back(detail::make_frame(ids.date_time, ext, 8, d));
         }
         if (ids.milli_time != 0) {
             detail::Bytes8 d{};
             detail::put(d, 0, 48, static_cast<std::uint64_t>(floor_div(ns, 1'000'000)));
             detail::put(d, 48, 8,
                         static_cast<std::uint64_t>(static_cast<std::int64_t>(utc_offset_s)));
-            out.push_back(make_frame(ids.milli_time, ext, 7, d));
+            out.push_back(detail::make_frame(ids.milli_time, ext, 7, d));
         }
     }
     if (s.has(nav::NavSample::kPosition)) {
@@ -314,12 +301,12 @@ std::vector<nav::CanFrame> oxts_can_encode(const nav::NavSample& s, const OxtsCa
             detail::Bytes8 d{};
             detail::put_s(d, 0, 32, s.lat_deg, 1e-7);
             detail::put_s(d, 32, 32, s.lon_deg, 1e-7);
-            out.push_back(make_frame(ids.lat_lon, ext, 8, d));
+            out.push_back(detail::make_frame(ids.lat_lon, ext, 8, d));
         }
         if (ids.altitude != 0) {
             detail::Bytes8 d{};
             detail::put_s(d, 0, 32, s.height_m, 1e-3);
-            out.push_back(make_frame(ids.altitude, ext, 4, d));
+            out.push_back(detail::make_frame(ids.altitude, ext, 4, d));
         }
     }
     if (s.has(nav::NavSample::kVelocity) && ids.velocity != 0) {
@@ -329,14 +316,14 @@ std::vector<nav::CanFrame> oxts_can_encode(const nav::NavSample& s, const OxtsCa
         detail::put_s(d, 16, 16, v.y(), 0.01);
         detail::put_s(d, 32, 16, v.z(), 0.01);
         detail::put_u(d, 48, 16, std::hypot(v.x(), v.y()), 0.01);
-        out.push_back(make_frame(ids.velocity, ext, 8, d));
+        out.push_back(detail::make_frame(ids.velocity, ext, 8, d));
     }
     if (s.has(nav::NavSample::kAcceleration) && ids.accel_vehicle != 0) {
         detail::Bytes8 d{};
         for (unsigned i = 0; i < 3; ++i) {
             detail::put_s(d, 16 * i, 16, s.accel_frd_mps2[static_cast<Eigen::Index>(i)], 0.01);
         }
-        out.push_back(make_frame(ids.accel_vehicle, ext, 6, d));
+        out.push_back(detail::make_frame(ids.accel_vehicle, ext, 6, d));
     }
     if (s.has(nav::NavSample::kAngularRate) && ids.rate_vehicle != 0) {
         detail::Bytes8 d{};
@@ -344,7 +331,7 @@ std::vector<nav::CanFrame> oxts_can_encode(const nav::NavSample& s, const OxtsCa
             detail::put_s(d, 16 * i, 16, s.rate_frd_radps[static_cast<Eigen::Index>(i)] * kRadToDeg,
                           0.01);
         }
-        out.push_back(make_frame(ids.rate_vehicle, ext, 6, d));
+        out.push_back(detail::make_frame(ids.rate_vehicle, ext, 6, d));
     }
     // 0x607 last: a decoder closes the group when it arrives (see OxtsCanDecoder).
     if ((s.has(nav::NavSample::kAttitude) || s.has(nav::NavSample::kHeading)) &&
@@ -363,7 +350,7 @@ std::vector<nav::CanFrame> oxts_can_encode(const nav::NavSample& s, const OxtsCa
         detail::put(d, 32, 16,
                     static_cast<std::uint64_t>(detail::to_raw(full ? s.roll_rad * kRadToDeg : 0.0,
                                                               0.01, -18'000, 18'000)));
-        out.push_back(make_frame(ids.heading_pitch_roll, ext, 6, d));
+        out.push_back(detail::make_frame(ids.heading_pitch_roll, ext, 6, d));
     }
     return out;
 }

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "bits.hpp"
+#include "frames.hpp"
 
 namespace mirage::navcan {
 namespace {
@@ -21,20 +22,6 @@ constexpr std::uint32_t kHeadingValid = 1u << 5;
 constexpr std::uint32_t kVelocityValid = 1u << 6;
 constexpr std::uint32_t kPositionValid = 1u << 7;
 constexpr std::uint32_t kGnss1PosUsed = 1u << 11;
-
-bool matches(const nav::CanFrame& f, std::uint32_t id, bool extended) {
-    return id != 0 && f.id == id && f.extended == extended;
-}
-
-nav::CanFrame make_frame(std::uint32_t id, bool extended, std::uint8_t len,
-                         const detail::Bytes8& data) {
-    nav::CanFrame f;
-    f.id = id;
-    f.extended = extended;
-    f.len = len;
-    f.data = data;
-    return f;
-}
 
 // The full GPS time whose time of week is tow_ms, in the week nearest to `approx`.
 std::int64_t gps_ns_near(std::int64_t approx_ns, std::uint32_t tow_ms) {
@@ -145,7 +132,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         return false;
     };
 
-    if (matches(f, ids_.utc_0, ext)) {
+    if (detail::matches(f, ids_.utc_0, ext)) {
         if (!need(8)) return;
         const auto ts = static_cast<std::uint32_t>(detail::get_u(d, 0, 32));
         const auto tow = static_cast<std::uint32_t>(detail::get_u(d, 32, 32));
@@ -165,7 +152,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         }
         return;
     }
-    if (matches(f, ids_.utc_1, ext)) {
+    if (detail::matches(f, ids_.utc_1, ext)) {
         if (!need(8)) return;
         const std::int64_t year = 2000 + d[0];
         const unsigned month = d[1], day = d[2], hour = d[3], min = d[4], sec = d[5];
@@ -188,14 +175,14 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         utc0_pending_ = false;
         return;
     }
-    if (matches(f, ids_.status_03, ext)) {
+    if (detail::matches(f, ids_.status_03, ext)) {
         if (!need(4)) return;
         ++counters_.messages_ok;
         solution_status_ = static_cast<std::uint32_t>(detail::get_u(d, 0, 32));
         have_status_ = true;
         return;
     }
-    if (matches(f, ids_.ekf_info, ext)) {
+    if (detail::matches(f, ids_.ekf_info, ext)) {
         if (!need(4)) return;
         ++counters_.messages_ok;
         const auto ts = static_cast<std::uint32_t>(detail::get_u(d, 0, 32));
@@ -209,7 +196,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
     }
 
     std::uint32_t part = 0;
-    if (matches(f, ids_.ekf_quat, ext)) {
+    if (detail::matches(f, ids_.ekf_quat, ext)) {
         if (!need(8)) return;
         double q[4];
         for (unsigned i = 0; i < 4; ++i) {
@@ -226,7 +213,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         }
         for (unsigned i = 0; i < 4; ++i) quat_[i] = q[i] / n;
         part = kQuat;
-    } else if (matches(f, ids_.ekf_euler, ext)) {
+    } else if (detail::matches(f, ids_.ekf_euler, ext)) {
         if (!need(6)) return;
         const std::int64_t r = detail::get_s(d, 0, 16), p = detail::get_s(d, 16, 16),
                            y = detail::get_s(d, 32, 16);
@@ -243,7 +230,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         group_.pitch_rad = static_cast<double>(p) * 1e-4;
         group_.heading_rad = static_cast<double>(y) * 1e-4;
         part = kEuler;
-    } else if (matches(f, ids_.ekf_pos, ext)) {
+    } else if (detail::matches(f, ids_.ekf_pos, ext)) {
         if (!need(8)) return;
         const std::int64_t lat = detail::get_s(d, 0, 32), lon = detail::get_s(d, 32, 32);
         if (lat < -900'000'000 || lat > 900'000'000 || lon < -1'800'000'000 ||
@@ -258,7 +245,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         group_.lat_deg = static_cast<double>(lat) * 1e-7;
         group_.lon_deg = static_cast<double>(lon) * 1e-7;
         part = kPos;
-    } else if (matches(f, ids_.ekf_altitude, ext)) {
+    } else if (detail::matches(f, ids_.ekf_altitude, ext)) {
         if (!need(6)) return;
         if (!group_open_) {
             ++orphan_frames_;
@@ -267,7 +254,7 @@ void SbgCanDecoder::feed(const nav::CanFrame& f, const nav::SampleFn& on_sample)
         altitude_msl_m_ = static_cast<double>(detail::get_s(d, 0, 32)) * 1e-3;
         undulation_m_ = static_cast<double>(detail::get_s(d, 32, 16)) * 0.005;
         part = kAlt;
-    } else if (matches(f, ids_.ekf_vel_ned, ext)) {
+    } else if (detail::matches(f, ids_.ekf_vel_ned, ext)) {
         if (!need(6)) return;
         if (!group_open_) {
             ++orphan_frames_;
@@ -298,7 +285,7 @@ std::vector<nav::CanFrame> sbg_can_encode_utc(core::GpsTime t, const SbgCanEncod
         detail::Bytes8 d{};
         detail::put(d, 0, 32, device_us(t_ms, cfg.boot));
         detail::put(d, 32, 32, static_cast<std::uint64_t>(wt.ns_of_week / kNsPerMs));
-        out.push_back(make_frame(cfg.ids.utc_0, ext, 8, d));
+        out.push_back(detail::make_frame(cfg.ids.utc_0, ext, 8, d));
     }
     if (cfg.ids.utc_1 != 0) {
         const std::int64_t unix_ns = core::unix_ns_from_gps(t_ms);
@@ -315,7 +302,7 @@ std::vector<nav::CanFrame> sbg_can_encode_utc(core::GpsTime t, const SbgCanEncod
         d[4] = static_cast<std::uint8_t>((sec / 60) % 60);
         d[5] = static_cast<std::uint8_t>(sec % 60);
         detail::put(d, 48, 16, static_cast<std::uint64_t>((in_day % core::kNsPerSecond) / 100'000));
-        out.push_back(make_frame(cfg.ids.utc_1, ext, 8, d));
+        out.push_back(detail::make_frame(cfg.ids.utc_1, ext, 8, d));
     }
     return out;
 }
@@ -327,12 +314,12 @@ std::vector<nav::CanFrame> sbg_can_encode(const nav::NavSample& s, const SbgCanE
     if (ids.status_03 != 0) {
         detail::Bytes8 d{};
         detail::put(d, 0, 32, cfg.solution_status);
-        out.push_back(make_frame(ids.status_03, ext, 6, d));
+        out.push_back(detail::make_frame(ids.status_03, ext, 6, d));
     }
     {
         detail::Bytes8 d{};
         detail::put(d, 0, 32, device_us(s.t, cfg.boot));
-        out.push_back(make_frame(ids.ekf_info, ext, 4, d));
+        out.push_back(detail::make_frame(ids.ekf_info, ext, 4, d));
     }
     if (s.has(nav::NavSample::kAttitude)) {
         // Heading [0, 2π) -> yaw ±π.
@@ -345,7 +332,7 @@ std::vector<nav::CanFrame> sbg_can_encode(const nav::NavSample& s, const SbgCanE
                                  cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy};
             detail::Bytes8 d{};
             for (unsigned i = 0; i < 4; ++i) detail::put_s(d, 16 * i, 16, q[i], kQuatFactor);
-            out.push_back(make_frame(ids.ekf_quat, ext, 8, d));
+            out.push_back(detail::make_frame(ids.ekf_quat, ext, 8, d));
         }
         if (ids.ekf_euler != 0) {
             detail::Bytes8 d{};
@@ -357,7 +344,7 @@ std::vector<nav::CanFrame> sbg_can_encode(const nav::NavSample& s, const SbgCanE
                 static_cast<std::uint64_t>(detail::to_raw(s.pitch_rad, 1e-4, -15'708, 15'708)));
             detail::put(d, 32, 16,
                         static_cast<std::uint64_t>(detail::to_raw(yaw, 1e-4, -31'416, 31'416)));
-            out.push_back(make_frame(ids.ekf_euler, ext, 6, d));
+            out.push_back(detail::make_frame(ids.ekf_euler, ext, 6, d));
         }
     }
     if (s.has(nav::NavSample::kPosition)) {
@@ -365,7 +352,7 @@ std::vector<nav::CanFrame> sbg_can_encode(const nav::NavSample& s, const SbgCanE
             detail::Bytes8 d{};
             detail::put_s(d, 0, 32, s.lat_deg, 1e-7);
             detail::put_s(d, 32, 32, s.lon_deg, 1e-7);
-            out.push_back(make_frame(ids.ekf_pos, ext, 8, d));
+            out.push_back(detail::make_frame(ids.ekf_pos, ext, 8, d));
         }
         if (ids.ekf_altitude != 0) {
             // ALTITUDE is MSL: ellipsoidal height − undulation (an MSL sample is already MSL).
@@ -374,7 +361,7 @@ std::vector<nav::CanFrame> sbg_can_encode(const nav::NavSample& s, const SbgCanE
             detail::Bytes8 d{};
             detail::put_s(d, 0, 32, msl, 1e-3);
             detail::put_s(d, 32, 16, cfg.undulation_m, 0.005);
-            out.push_back(make_frame(ids.ekf_altitude, ext, 6, d));
+            out.push_back(detail::make_frame(ids.ekf_altitude, ext, 6, d));
         }
     }
     if (s.has(nav::NavSample::kVelocity) && ids.ekf_vel_ned != 0) {
@@ -382,7 +369,7 @@ std::vector<nav::CanFrame> sbg_can_encode(const nav::NavSample& s, const SbgCanE
         for (unsigned i = 0; i < 3; ++i) {
             detail::put_s(d, 16 * i, 16, s.velocity_ned_mps[static_cast<Eigen::Index>(i)], 0.01);
         }
-        out.push_back(make_frame(ids.ekf_vel_ned, ext, 6, d));
+        out.push_back(detail::make_frame(ids.ekf_vel_ned, ext, 6, d));
     }
     return out;
 }

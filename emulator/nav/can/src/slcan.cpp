@@ -12,10 +12,6 @@ constexpr std::array<std::uint32_t, 9> kBitrates = {10'000,  20'000,  50'000,  1
                                                     250'000, 500'000, 800'000, 1'000'000};
 constexpr std::uint32_t kTimestampWrap = 60'000;  // Z timestamps count ms within a minute
 
-void append_hex(std::string& out, std::uint32_t v, int digits) {
-    for (int i = digits - 1; i >= 0; --i) out.push_back(detail::kHexUpper[(v >> (4 * i)) & 0xFu]);
-}
-
 bool parse_frame(std::string_view line, SlcanEvent& out) {
     const char type = line[0];
     const bool extended = type == 'T' || type == 'R';
@@ -149,14 +145,14 @@ std::string encode_body(const nav::CanFrame& f) {
     const std::uint8_t len = f.len > 8 ? std::uint8_t{8} : f.len;
     if (f.extended) {
         s.push_back(f.rtr ? 'R' : 'T');
-        append_hex(s, f.id & 0x1FFF'FFFFu, 8);
+        detail::append_hex(s, f.id & 0x1FFF'FFFFu, 8);
     } else {
         s.push_back(f.rtr ? 'r' : 't');
-        append_hex(s, f.id & 0x7FFu, 3);
+        detail::append_hex(s, f.id & 0x7FFu, 3);
     }
     s.push_back(static_cast<char>('0' + len));
     if (!f.rtr) {
-        for (std::size_t i = 0; i < len; ++i) append_hex(s, f.data[i], 2);
+        for (std::size_t i = 0; i < len; ++i) detail::append_hex(s, f.data[i], 2);
     }
     return s;
 }
@@ -171,7 +167,7 @@ std::string slcan_encode(const nav::CanFrame& frame) {
 std::string slcan_encode(const nav::CanFrame& frame, std::uint16_t timestamp_ms) {
     std::string s = encode_body(frame);
     if (s.empty()) return s;
-    append_hex(s, timestamp_ms % kTimestampWrap, 4);
+    detail::append_hex(s, timestamp_ms % kTimestampWrap, 4);
     s.push_back(kSlcanOk);
     return s;
 }
@@ -194,7 +190,7 @@ std::string slcan_command_text(const SlcanCommand& cmd) {
         }
         case K::SetBtr:
             s.push_back('s');
-            append_hex(s, cmd.value & 0xFFFFu, 4);
+            detail::append_hex(s, cmd.value & 0xFFFFu, 4);
             break;
         case K::Open:
             s.push_back('O');
@@ -207,12 +203,12 @@ std::string slcan_command_text(const SlcanCommand& cmd) {
             break;
         case K::Status:
             s.push_back('F');
-            if (cmd.has_value) append_hex(s, cmd.value & 0xFFu, 2);
+            if (cmd.has_value) detail::append_hex(s, cmd.value & 0xFFu, 2);
             break;
         case K::Version:
         case K::SwVersion:
             s.push_back(cmd.kind == K::Version ? 'V' : 'v');
-            if (cmd.has_value) append_hex(s, cmd.value & 0xFFFFu, 4);
+            if (cmd.has_value) detail::append_hex(s, cmd.value & 0xFFFFu, 4);
             break;
         case K::Serial:
             s.push_back('N');

@@ -14,7 +14,6 @@ using nav::FixQuality;
 using nav::NavSample;
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-constexpr double kPi = std::numbers::pi;
 constexpr std::size_t kMaxChannel0Period = 5;
 
 // Longest run of packets between two channel-0 packets, cyclically, + 1 (the period).
@@ -124,7 +123,8 @@ Packet NcomEncoder::to_packet(const NavSample& s, std::uint8_t channel) const {
     p.alt_m = static_cast<float>(s.height_m);
     if (s.has(NavSample::kAttitude) || s.has(NavSample::kHeading)) {
         double h = s.heading_rad;
-        if (h > kPi) h -= 2 * kPi;  // OxTS reports heading in (−180°, 180°]
+        // OxTS reports heading in (−180°, 180°]
+        if (h > std::numbers::pi) h -= 2 * std::numbers::pi;
         p.heading = quantise_i24(h, kAngleScale);
         const bool att = s.has(NavSample::kAttitude);
         p.pitch = att ? quantise_i24(s.pitch_rad, kAngleScale) : kInvalidI24;

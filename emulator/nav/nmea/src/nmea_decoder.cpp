@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "mirage/core/time.hpp"
+#include "mirage/nmea/fields.hpp"
 #include "mirage/nmea/sentence.hpp"
 #include "mirage/nmea/sentences.hpp"
 
@@ -15,7 +16,6 @@ using nav::FixQuality;
 using nav::NavSample;
 
 constexpr std::int64_t kHalfDayNs = 12 * 3600 * core::kNsPerSecond;
-constexpr double kKnotMps = 1852.0 / 3600.0;  // international knot, exact
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // Degrees clockwise from true north (any sign) -> radians in [0, 2π).

@@ -16,7 +16,6 @@ namespace {
 using nav::FixQuality;
 using nav::NavSample;
 
-constexpr double kKnotMps = 1852.0 / 3600.0;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::int64_t kNsPerDay = 86'400 * core::kNsPerSecond;
 

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "seconds.hpp"
+
 namespace mirage::navpose {
 namespace {
-
-double seconds(core::Nanos d) { return double(d.count()) * 1e-9; }
 
 // The rotation `r` continued by the factor f (shortest way round). Written out rather than
 // through Eigen::AngleAxisd, whose stableNorm trips g++ 12's maybe-uninitialized on AVX-512.
@@ -42,7 +42,7 @@ Eigen::Vector3d PoseBuffer::velocity_at_end() const {
     if (b.v) return *b.v;
     if (pos_.size() < 2) return Eigen::Vector3d::Zero();
     const PosSample& a = pos_[pos_.size() - 2];
-    return (b.p - a.p) / seconds(b.t - a.t);
+    return (b.p - a.p) / detail::seconds(b.t - a.t);
 }
 
 void PoseBuffer::add(const PositionUpdate& u) {
@@ -74,7 +74,7 @@ PoseBuffer::Query PoseBuffer::at_locked(core::GpsTime t, std::vector<UsedMessage
 
     // Position: linear between the bracketing samples, constant velocity beyond the newest.
     if (t >= pos_.back().t) {
-        q.pose.position = pos_.back().p + velocity_at_end() * seconds(t - pos_.back().t);
+        q.pose.position = pos_.back().p + velocity_at_end() * detail::seconds(t - pos_.back().t);
         note(used, pos_.back().tag, Track::Position);
     } else {
         const std::size_t i = upper_index(pos_, t);

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "mirage/navpose/track_gate.hpp"
 
+#include "seconds.hpp"
+
 namespace mirage::navpose {
 namespace {
 
 constexpr int kJumpsBeforeReset = 10;  // a persistent offset is a re-initialisation, not a glitch
-
-double seconds(core::Nanos d) { return double(d.count()) * 1e-9; }
 
 }  // namespace
 
@@ -18,8 +18,8 @@ Eigen::Vector3d TrackGate::predicted(core::GpsTime t) const {
     if (last_->v)
         v = *last_->v;
     else if (before_last_)
-        v = (last_->p - before_last_->p) / seconds(last_->t - before_last_->t);
-    return last_->p + v * seconds(t - last_->t);
+        v = (last_->p - before_last_->p) / detail::seconds(last_->t - before_last_->t);
+    return last_->p + v * detail::seconds(t - last_->t);
 }
 
 GateVerdict TrackGate::position(core::GpsTime t, const Eigen::Vector3d& local,

@@ -14,12 +14,13 @@
 #include "mirage/navcan/oxts_can.hpp"
 #include "mirage/navcan/sbg_can.hpp"
 #include "test_paths.hpp"
+#include "test_units.hpp"
 
 using namespace mirage;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mirage::test::kDeg;
 
 // Checks each signal of each frame against `want` (name -> value, tolerance); returns how many
 // signals were compared.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "can_test_util.hpp"
+#include "test_units.hpp"
 
 using namespace mirage;
 using navcan::test::cf;
@@ -15,7 +16,7 @@ using navcan::test::hex_of;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mirage::test::kDeg;
 
 // 2023-11-14T22:13:20 GPS (= Unix 1700000000 s as a calendar, read in the GPS scale).
 core::GpsTime example_time() {

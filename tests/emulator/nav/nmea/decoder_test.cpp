@@ -23,7 +23,7 @@ using test::gps_ns;
 using test::rad;
 
 // A date-setting RMC (2014-02-19 20:41:32 UTC, 10 kn due east) to start streams with.
-const std::string kRmc =
+const std::string kDateRmc =
     frame_sentence("GPRMC,204132.00,A,4205.733476,N,08802.041110,W,10.0,90.0,190214,,,D");
 
 std::string f(const std::string& body) { return frame_sentence(body); }
@@ -31,7 +31,7 @@ std::string f(const std::string& body) { return frame_sentence(body); }
 TEST(NmeaDecoder, rmc_time_is_utc_plus_leap_seconds_and_velocity_is_ned) {
     NmeaDecoder d;
     EXPECT_FALSE(d.has_date());
-    const auto out = decode_all(d, kRmc);
+    const auto out = decode_all(d, kDateRmc);
     ASSERT_EQ(out.size(), 1u);
     EXPECT_TRUE(d.has_date());
     const NavSample& s = out[0];
@@ -47,7 +47,8 @@ TEST(NmeaDecoder, rmc_time_is_utc_plus_leap_seconds_and_velocity_is_ned) {
 TEST(NmeaDecoder, gga_height_is_msl_plus_geoid_separation) {
     NmeaDecoder d;
     const auto out = decode_all(
-        d, kRmc + f("GPGGA,204132.10,4205.733715,N,08802.040978,W,4,12,0.8,221.921,M,-33.5,M,,") +
+        d, kDateRmc +
+               f("GPGGA,204132.10,4205.733715,N,08802.040978,W,4,12,0.8,221.921,M,-33.5,M,,") +
                f("GPGGA,204132.20,3345.500000,S,15112.000000,E,5,07,0.8,221.912,M,,,3,0138"));
     ASSERT_EQ(out.size(), 3u);
     const NavSample& a = out[1];
@@ -73,21 +74,21 @@ TEST(NmeaDecoder, gga_quality_codes_map_to_fix_quality) {
         FixQuality::DeadReckoning, FixQuality::Unknown,    FixQuality::Simulated};
     for (int q = 0; q <= 8; ++q) {
         NmeaDecoder d;
-        const auto out = decode_all(d, kRmc + f("GPGGA,204133,4205.7,N,08802.0,W," +
-                                                std::to_string(q) + ",05,1,10,M,0,M,,"));
+        const auto out = decode_all(d, kDateRmc + f("GPGGA,204133,4205.7,N,08802.0,W," +
+                                                    std::to_string(q) + ",05,1,10,M,0,M,,"));
         ASSERT_EQ(out.size(), 2u);
         EXPECT_EQ(out[1].quality, want[q]) << q;
         EXPECT_EQ(out[1].has(NavSample::kPosition), q != 0) << q;  // 0: fix not valid
     }
     NmeaDecoder d;
-    decode_all(d, kRmc + f("GPGGA,204133,4205.7,N,08802.0,W,9,05,1,10,M,0,M,,"));
+    decode_all(d, kDateRmc + f("GPGGA,204133,4205.7,N,08802.0,W,9,05,1,10,M,0,M,,"));
     EXPECT_EQ(d.counters().invalid_field, 1u);
 }
 
 TEST(NmeaDecoder, heading_350_and_yaw_minus_10_are_the_same_heading) {
     NmeaDecoder d;
     const auto out =
-        decode_all(d, kRmc + f("HEHDT,350.00,T") +
+        decode_all(d, kDateRmc + f("HEHDT,350.00,T") +
                           f("PTNL,AVR,204133.0,-10.0000,Yaw,+2.5000,Tilt,,,1.5,3,1.2,9") +
                           f("GPHDT,360.00,T"));
     ASSERT_EQ(out.size(), 4u);
@@ -106,7 +107,7 @@ TEST(NmeaDecoder, heading_350_and_yaw_minus_10_are_the_same_heading) {
 TEST(NmeaDecoder, pashr_roll_and_pitch_keep_their_signs) {
     NmeaDecoder d;
     const auto out = decode_all(
-        d, kRmc + f("PASHR,204132.040,010.99,T,+05.00,-03.00,-00.84,0.151,0.088,0.569,1,0") +
+        d, kDateRmc + f("PASHR,204132.040,010.99,T,+05.00,-03.00,-00.84,0.151,0.088,0.569,1,0") +
                f("PASHR,204132.080,359.99,T,-45.50,+10.25,+00.00,0.151,0.088,0.569,1,0"));
     ASSERT_EQ(out.size(), 3u);
     EXPECT_EQ(out[1].fields, NavSample::kTime | NavSample::kAttitude);
@@ -123,7 +124,7 @@ TEST(NmeaDecoder, pashr_roll_and_pitch_keep_their_signs) {
 TEST(NmeaDecoder, vtg_both_forms_give_ned_velocity) {
     NmeaDecoder d;
     const auto out =
-        decode_all(d, kRmc + f("GPVTG,180.0,T,,M,2.0,N,3.704,K,A") +
+        decode_all(d, kDateRmc + f("GPVTG,180.0,T,,M,2.0,N,3.704,K,A") +
                           f("GPVTG,270.0,T,,M,,N,3.704,K,A") + f("GPVTG,054.7,034.4,005.5,010.2"));
     ASSERT_EQ(out.size(), 4u);
     const double kn = 1852.0 / 3600.0;
@@ -186,7 +187,7 @@ TEST(NmeaDecoder, leap_second_2359_60_lands_on_the_inserted_second) {
 
 // A stream with every sentence type, decoded in one piece and in random pieces.
 std::string mixed_stream() {
-    std::string s = kRmc;
+    std::string s = kDateRmc;
     for (int i = 0; i < 20; ++i) {
         const std::string t = "2041" + std::to_string(33 + i / 10) + "." + std::to_string(i % 10);
         s += f("GPGGA," + t + "0,4205.73" + std::to_string(i % 10) +
@@ -249,7 +250,7 @@ TEST(NmeaDecoder, garbage_between_sentences_is_skipped_and_counted) {
 
 TEST(NmeaDecoder, truncated_badsum_overlong_and_invalid_sentences_are_counted_not_applied) {
     NmeaDecoder d;
-    std::string s = kRmc;
+    std::string s = kDateRmc;
     const std::string good_gga = f("GPGGA,204132.50,4205.7,N,08802.0,W,1,05,1,10,M,0,M,,");
     s += good_gga.substr(0, 30);  // cut short, the next `$` arrives
     s += f("GPHDT,11.0,T");
@@ -284,7 +285,7 @@ TEST(NmeaDecoder, truncated_badsum_overlong_and_invalid_sentences_are_counted_no
 
 TEST(NmeaDecoder, lf_only_line_endings_and_empty_fields_mean_no_data) {
     NmeaDecoder d;
-    std::string s = kRmc;
+    std::string s = kDateRmc;
     s += "$GPHDT,1.5,T*" + frame_sentence("GPHDT,1.5,T").substr(13, 2) + "\n";
     s += f("GPGGA,204133.00,,,,,0,00,,,M,,M,,");  // no fix: time and quality only
     s += f("GPHDT,,T");                           // empty heading: nothing to emit

@@ -19,13 +19,14 @@ using nav::NavSample;
 using test::gps_ns;
 using test::rad;
 
-const std::string kGga = "$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47";
-const std::string kRmc = "$GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W*6A";
-const std::string kHdt = "$GPHDT,274.07,T*03";
-const std::string kZda = "$GPZDA,160012.71,11,03,2004,-1,00*7D";
-const std::string kPashr =
+const std::string kGgaVector = "$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47";
+const std::string kRmcVector =
+    "$GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W*6A";
+const std::string kHdtVector = "$GPHDT,274.07,T*03";
+const std::string kZdaVector = "$GPZDA,160012.71,11,03,2004,-1,00*7D";
+const std::string kPashrVector =
     "$PASHR,085335.000,224.19,T,-01.26,+00.83,+00.00,0.101,0.113,0.267,1,0*06";
-const std::string kAvr = "$PTNL,AVR,181059.6,+149.4688,Yaw,+0.0134,Tilt,,,60.191,3,2.5,6*00";
+const std::string kAvrVector = "$PTNL,AVR,181059.6,+149.4688,Yaw,+0.0134,Tilt,,,60.191,3,2.5,6*00";
 
 Sentence framed(const std::string& line) {
     Sentence s;
@@ -34,7 +35,8 @@ Sentence framed(const std::string& line) {
 }
 
 TEST(NmeaSentence, checksum_is_xor_between_dollar_and_star_for_all_six_vectors) {
-    for (const std::string& v : {kGga, kRmc, kHdt, kZda, kPashr, kAvr}) {
+    for (const std::string& v :
+         {kGgaVector, kRmcVector, kHdtVector, kZdaVector, kPashrVector, kAvrVector}) {
         const std::size_t star = v.find('*');
         const std::string body = v.substr(1, star - 1);
         EXPECT_EQ(checksum(body), std::stoi(v.substr(star + 1), nullptr, 16)) << v;
@@ -54,8 +56,8 @@ TEST(NmeaSentence, tag_type_is_independent_of_talker) {
         EXPECT_EQ(s.at(0), "12.5");
         EXPECT_EQ(s.at(5), "");  // past the end: no data
     }
-    EXPECT_EQ(framed(kPashr).type, SentenceType::Pashr);
-    EXPECT_EQ(framed(kAvr).type, SentenceType::PtnlAvr);
+    EXPECT_EQ(framed(kPashrVector).type, SentenceType::Pashr);
+    EXPECT_EQ(framed(kAvrVector).type, SentenceType::PtnlAvr);
     EXPECT_EQ(framed(frame_sentence("GPGSV,1,1,00")).type, SentenceType::Unknown);
 }
 
@@ -83,7 +85,7 @@ TEST(NmeaSentence, framing_errors_are_classified) {
 
 TEST(NmeaSentence, gga_vector_decodes_every_field) {
     Gga g;
-    ASSERT_EQ(parse_gga(framed(kGga), g), ParseStatus::Ok);
+    ASSERT_EQ(parse_gga(framed(kGgaVector), g), ParseStatus::Ok);
     ASSERT_TRUE(g.time);
     EXPECT_EQ(g.time->ns_of_day(), (12 * 3600 + 35 * 60 + 19) * 1'000'000'000LL);
     EXPECT_NEAR(*g.lat_deg, 48.0 + 7.038 / 60.0, 1e-12);
@@ -97,7 +99,7 @@ TEST(NmeaSentence, gga_vector_decodes_every_field) {
 
 TEST(NmeaSentence, rmc_vector_decodes_every_field) {
     Rmc r;
-    ASSERT_EQ(parse_rmc(framed(kRmc), r), ParseStatus::Ok);
+    ASSERT_EQ(parse_rmc(framed(kRmcVector), r), ParseStatus::Ok);
     EXPECT_TRUE(r.valid);
     EXPECT_NEAR(*r.lat_deg, 48.1173, 1e-12);
     EXPECT_DOUBLE_EQ(*r.speed_knots, 22.4);
@@ -109,11 +111,11 @@ TEST(NmeaSentence, rmc_vector_decodes_every_field) {
 
 TEST(NmeaSentence, hdt_zda_pashr_avr_vectors_decode_every_field) {
     Hdt h;
-    ASSERT_EQ(parse_hdt(framed(kHdt), h), ParseStatus::Ok);
+    ASSERT_EQ(parse_hdt(framed(kHdtVector), h), ParseStatus::Ok);
     EXPECT_DOUBLE_EQ(*h.heading_deg, 274.07);
 
     Zda z;
-    ASSERT_EQ(parse_zda(framed(kZda), z), ParseStatus::Ok);
+    ASSERT_EQ(parse_zda(framed(kZdaVector), z), ParseStatus::Ok);
     EXPECT_EQ(z.time->ns_of_day(), (16 * 3600 + 12) * 1'000'000'000LL + 710'000'000);
     EXPECT_EQ(*z.date, (Date{2004, 3, 11}));
     EXPECT_EQ(*z.zone_hours, -1);
@@ -129,7 +131,7 @@ TEST(NmeaSentence, hdt_zda_pashr_avr_vectors_decode_every_field) {
     EXPECT_EQ(*far.date, (Date{2200, 12, 31}));
 
     Pashr p;
-    ASSERT_EQ(parse_pashr(framed(kPashr), p), ParseStatus::Ok);
+    ASSERT_EQ(parse_pashr(framed(kPashrVector), p), ParseStatus::Ok);
     EXPECT_EQ(p.time->ns_of_day(), (8 * 3600 + 53 * 60 + 35) * 1'000'000'000LL);
     EXPECT_DOUBLE_EQ(*p.heading_deg, 224.19);
     EXPECT_DOUBLE_EQ(*p.roll_deg, -1.26);
@@ -142,7 +144,7 @@ TEST(NmeaSentence, hdt_zda_pashr_avr_vectors_decode_every_field) {
     EXPECT_EQ(*p.imu_status, 0);
 
     PtnlAvr a;
-    ASSERT_EQ(parse_ptnl_avr(framed(kAvr), a), ParseStatus::Ok);
+    ASSERT_EQ(parse_ptnl_avr(framed(kAvrVector), a), ParseStatus::Ok);
     EXPECT_EQ(a.time->ns_of_day(), (18 * 3600 + 10 * 60 + 59) * 1'000'000'000LL + 600'000'000);
     EXPECT_DOUBLE_EQ(*a.yaw_deg, 149.4688);
     EXPECT_DOUBLE_EQ(*a.tilt_deg, 0.0134);
@@ -187,20 +189,20 @@ TEST(NmeaEncoder, reproduces_the_six_vectors_and_their_checksums) {
     s.satellites = 8;
     const double v = 22.4 * 1852.0 / 3600.0;
     s.velocity_ned_mps = {v * std::cos(rad(84.4)), v * std::sin(rad(84.4)), 0.0};
-    EXPECT_EQ(encode_gga(s, old), kGga + "\r\n");
-    EXPECT_EQ(encode_rmc(s, old), kRmc + "\r\n");
+    EXPECT_EQ(encode_gga(s, old), kGgaVector + "\r\n");
+    EXPECT_EQ(encode_rmc(s, old), kRmcVector + "\r\n");
 
     NavSample h;
     h.fields = NavSample::kHeading;
     h.heading_rad = rad(274.07);
-    EXPECT_EQ(encode_hdt(h), kHdt + "\r\n");
+    EXPECT_EQ(encode_hdt(h), kHdtVector + "\r\n");
 
     NavSample z;
     z.fields = NavSample::kTime;
     z.t = core::GpsTime{core::Nanos{gps_ns("2004-03-11T16:00:12.71Z")}};
     EncodeOptions zo;
     zo.zda_zone_hours = -1;
-    EXPECT_EQ(encode_zda(z, zo), kZda + "\r\n");
+    EXPECT_EQ(encode_zda(z, zo), kZdaVector + "\r\n");
 
     NavSample p;
     p.fields = NavSample::kTime | NavSample::kAttitude;
@@ -214,7 +216,7 @@ TEST(NmeaEncoder, reproduces_the_six_vectors_and_their_checksums) {
     po.heading_sigma_deg = 0.267;
     po.aiding_status = 1;
     po.imu_status = 0;
-    EXPECT_EQ(encode_pashr(p, po), kPashr + "\r\n");
+    EXPECT_EQ(encode_pashr(p, po), kPashrVector + "\r\n");
 
     NavSample a;
     a.fields = NavSample::kTime | NavSample::kHeading;
@@ -226,7 +228,7 @@ TEST(NmeaEncoder, reproduces_the_six_vectors_and_their_checksums) {
     EncodeOptions ao;
     ao.avr_range_m = 60.191;
     ao.avr_pdop = 2.5;
-    EXPECT_EQ(encode_ptnl_avr(a, ao), kAvr + "\r\n");
+    EXPECT_EQ(encode_ptnl_avr(a, ao), kAvrVector + "\r\n");
 }
 
 TEST(NmeaFields, latitude_longitude_and_their_range_checks) {

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "mirage/navpose/nav_frame.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,13 +10,13 @@
 #include "mirage/core/error.hpp"
 #include "mirage/core/georef.hpp"
 #include "mirage/core/pose.hpp"
-#include "mirage/navpose/nav_frame.hpp"
+#include "test_units.hpp"
 
 using namespace mirage;
 using navpose::NavFrame;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mirage::test::kDeg;
 // The demo town's georeference: UTM 32N, anchor on the central meridian (9° E).
 core::Georef town() { return core::Georef::projected(32632, {500000.0, 5000000.0, 200.0}); }
 

@@ -10,6 +10,8 @@
 #include <numbers>
 
 #include "mirage/core/georef.hpp"
+#include "navpose_test_util.hpp"
+#include "test_units.hpp"
 
 using namespace mirage;
 using navpose::AddStatus;
@@ -18,10 +20,10 @@ using navpose::TrackGate;
 using F = nav::NavSample;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
+using mirage::test::kDeg;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-core::GpsTime T(std::int64_t ms) { return core::GpsTime(core::Nanos(ms * 1'000'000)); }
-Eigen::Quaterniond yaw(double rad) { return core::quaternion_from_rpy(0, 0, rad); }
+using navpose::test::T;
+using navpose::test::yaw;
 
 // UTM 32N anchored on the central meridian (9° E) at ~45.1° N.
 navpose::NavFrame utm() {
@@ -149,8 +151,8 @@ TEST(NavMapper, attitudes_use_the_convergence_at_the_newest_fix) {
     // 1° east of the central meridian at 45.1° N, grid north is ~0.71° east of true north: a
     // true heading of 90° is a grid bearing of ~89.29°, i.e. ENU yaw ~0.71°.
     // The scene anchored there (a position 79 km from the anchor would be outside the scene).
-    NavMapper m(navpose::NavFrame::from_georef(
-        core::Georef::projected(32632, {578800.0, 4995000.0, 0.0})));
+    NavMapper m(
+        navpose::NavFrame::from_georef(core::Georef::projected(32632, {578800.0, 4995000.0, 0.0})));
     ASSERT_TRUE(m.map(fix(0, 45.1, 10.0, 100)).position);
     const auto u = m.map(attitude(0, 0, 0, 90 * kDeg));
     ASSERT_TRUE(u.attitude);

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "mirage/core/pose.hpp"
+#include "navpose_test_util.hpp"
 
 using namespace mirage;
 using namespace std::chrono_literals;
@@ -14,8 +15,8 @@ using navpose::PoseStatus;
 using navpose::Track;
 
 namespace {
-core::GpsTime T(std::int64_t ms) { return core::GpsTime(core::Nanos(ms * 1'000'000)); }
-Eigen::Quaterniond yaw(double rad) { return core::quaternion_from_rpy(0, 0, rad); }
+using navpose::test::T;
+using navpose::test::yaw;
 
 navpose::PositionUpdate P(std::int64_t ms, const Eigen::Vector3d& p, std::uint64_t seq = 0,
                           std::optional<Eigen::Vector3d> v = std::nullopt) {

@@ -41,6 +41,9 @@ std::optional<Date> parse_ddmmyy(std::string_view text);
 std::optional<double> parse_latitude(std::string_view value, std::string_view hemisphere);
 std::optional<double> parse_longitude(std::string_view value, std::string_view hemisphere);
 
+// One international knot (exact) in m/s: NMEA speeds over ground are in knots.
+inline constexpr double kKnotMps = 1852.0 / 3600.0;
+
 // GPS time of a UTC date and time of day (leap seconds from mirage::core; 23:59:60 lands on the
 // inserted second).
 std::int64_t gps_ns_from_utc(const Date& date, const UtcTime& time);
