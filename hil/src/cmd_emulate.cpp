@@ -166,14 +166,15 @@ void register_emulate(CLI::App& app) {
         std::printf(
             "mirage emulate: %llu packets (%.2f MB) in %.3f s, %llu points from %llu pulses; "
             "sent %llu, failed sends %llu, pcap %llu; lateness p50 %.0f µs, p99 %.0f µs, worst "
-            "%.0f µs, late %llu%s\n",
+            "%.0f µs, late %llu%s%s%s\n",
             static_cast<unsigned long long>(t.packets), double(t.bytes) / 1e6, t.seconds,
             static_cast<unsigned long long>(stats.points),
             static_cast<unsigned long long>(stats.pulses), static_cast<unsigned long long>(t.sent),
             static_cast<unsigned long long>(t.send_failed),
             static_cast<unsigned long long>(t.pcap_packets), double(t.p50.count()) / 1e3,
             double(t.p99.count()) / 1e3, double(t.worst_late.count()) / 1e3,
-            static_cast<unsigned long long>(t.late), stop.load() ? " (interrupted)" : "");
+            static_cast<unsigned long long>(t.late), t.paced ? ", " : "",
+            output::late_share_text(t).c_str(), stop.load() ? " (interrupted)" : "");
         if (!side.empty()) std::printf("  wrote %s %s\n", w.side_file_kind.c_str(), side.c_str());
         print_clock_steps(stdout, clock ? &*clock : nullptr);
     });

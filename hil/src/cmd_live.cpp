@@ -313,7 +313,7 @@ void register_live(CLI::App& app) {
             "mirage live: %llu packets (%.2f MB) in %.3f s, %llu points, %d sub-rays; windows "
             "%llu, stale windows %llu in %llu periods; %s%s%s; INS->packet latency p50 %.3f ms p99 "
             "%.3f ms max %.3f ms (%llu messages; never in a packet: %llu superseded, %llu "
-            "waiting at the end); packet lateness p99 %.0f µs, late %llu, failed sends %llu\n",
+            "waiting at the end); packet lateness p99 %.0f µs, late %llu, failed sends %llu%s%s\n",
             static_cast<unsigned long long>(t.packets), double(t.bytes) / 1e6, t.seconds,
             static_cast<unsigned long long>(t.points), job.sensor.beam.sub_rays,
             static_cast<unsigned long long>(t.windows),
@@ -327,7 +327,8 @@ void register_live(CLI::App& app) {
             static_cast<unsigned long long>(t.superseded),
             static_cast<unsigned long long>(t.waiting_at_end), double(pt.p99.count()) / 1e3,
             static_cast<unsigned long long>(pt.late),
-            static_cast<unsigned long long>(pt.send_failed));
+            static_cast<unsigned long long>(pt.send_failed), pt.paced ? "; " : "",
+            output::late_share_text(pt).c_str());
         std::fflush(stdout);
         finish_recording();
     });

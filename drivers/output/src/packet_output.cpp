@@ -168,6 +168,12 @@ void PacketOutput::print_status(bool final) {
     bytes_at_status_ = totals_.bytes;
 }
 
+std::string late_share_text(const PacketOutputTotals& t) {
+    if (t.paced == 0) return {};
+    return fmt::format("50 µs late or more {:.3f} % of {}",
+                       100.0 * double(t.from_50us) / double(t.paced), t.paced);
+}
+
 PacketOutputTotals PacketOutput::finish() {
     udp::LatenessHistogram shared_stats;
     if (shared_) {
@@ -191,6 +197,8 @@ PacketOutputTotals PacketOutput::finish() {
     if (!pcap_error_.empty()) throw IoError(pcap_error_);
     const auto& st = shared_ ? shared_stats : pacer_.stats();
     totals_.late = st.late();
+    totals_.paced = st.count();
+    totals_.from_50us = st.count_from(std::chrono::microseconds(50));
     totals_.worst_late = st.worst();
     totals_.p50 = st.percentile(0.50);
     totals_.p99 = st.percentile(0.99);

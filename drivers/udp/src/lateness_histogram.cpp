@@ -40,4 +40,11 @@ core::Nanos LatenessHistogram::percentile(double q) const {
     return core::Nanos{worst_ns_};
 }
 
+std::uint64_t LatenessHistogram::count_from(core::Nanos t) const {
+    const std::int64_t first = std::clamp<std::int64_t>(t.count() / kBinNs, 0, std::int64_t{kBins});
+    std::uint64_t n = 0;
+    for (auto i = static_cast<std::size_t>(first); i <= kBins; ++i) n += bins_[i];
+    return n;
+}
+
 }  // namespace mirage::udp

@@ -38,6 +38,17 @@ TEST(LatenessHistogram, keeps_early_and_overflow_samples_exactly_at_the_ends) {
     EXPECT_EQ(h.percentile(0.5), Nanos{0});
 }
 
+TEST(LatenessHistogram, counts_the_samples_from_a_lateness_on) {
+    LatenessHistogram h;
+    for (int us = 1; us <= 100; ++us) h.add(Nanos{us * 1000 - 500});  // 0.5 ... 99.5 µs
+    h.add(Nanos{20'000'000});                                         // beyond the last bin
+    EXPECT_EQ(h.count_from(Nanos{50'000}), 51u);  // 50.5 ... 99.5 µs and the 20 ms sample
+    EXPECT_EQ(h.count_from(Nanos{50'999}), 51u);  // rounded down to the 50 µs bin
+    EXPECT_EQ(h.count_from(Nanos{51'000}), 50u);
+    EXPECT_EQ(h.count_from(Nanos{-1'000}), 101u);
+    EXPECT_EQ(h.count_from(Nanos{30'000'000}), 1u);  // the overflow bin is kept whatever t
+}
+
 TEST(Pacer, maps_sensor_time_to_absolute_host_deadlines) {
     Pacer p;
     const GpsTime t0{Nanos{1'000'000'000'000}};

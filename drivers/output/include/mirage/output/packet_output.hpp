@@ -63,12 +63,18 @@ struct PacketOutputTotals {
     std::uint64_t packets = 0, bytes = 0, sent = 0, send_failed = 0, pcap_packets = 0;
     std::uint64_t discarded = 0;  // queued, then dropped unsent (discard_queued)
     std::uint64_t late = 0;       // later than the pacer's threshold
+    std::uint64_t paced = 0;      // packets whose lateness was measured (realtime)
+    std::uint64_t from_50us = 0;  // of those, 50 µs late or more (docs/benchmarks.md §3.1)
     core::Nanos worst_late{0}, p50{0}, p99{0};
     core::Nanos send_p50{0}, send_p99{0};  // duration of the send calls (shared sender only)
     double seconds = 0;                    // host time from the first packet to the last
     bool fifo = false;                     // the sending thread ran SCHED_FIFO
     std::string fifo_error;                // why not, when it was asked for
 };
+
+// "50 µs late or more P % of N": the share of paced packets held against the machine's floor
+// (docs/benchmarks.md §3.1); empty when nothing was paced.
+std::string late_share_text(const PacketOutputTotals& t);
 
 // A sensor's UDP streams: data on `data` or the vendor's port (2368 Velodyne, 7502 Ouster),
 // Velodyne position / Ouster IMU on theirs (0 = off); the family's other stream is off.

@@ -29,6 +29,9 @@ class LatenessHistogram {
     // Upper edge of the bin holding quantile q in [0, 1] (worst() beyond the last bin); 0 when
     // empty. Resolution 1 µs.
     core::Nanos percentile(double q) const;
+    // Samples at or later than t, t rounded down to the 1 µs bins (beyond the last bin: the
+    // samples there, whatever t).
+    std::uint64_t count_from(core::Nanos t) const;
 
   private:
     std::array<std::uint64_t, kBins + 1> bins_{};
