@@ -17,6 +17,7 @@
 #include "mirage/output/packet_output.hpp"
 #include "mirage/output/packetizer_sink.hpp"
 #include "mirage/wire/setup.hpp"
+#include "paced_sender.hpp"
 #include "stop_signal.hpp"
 #include "summary.hpp"
 #include "text_file.hpp"
@@ -124,6 +125,13 @@ void register_emulate(CLI::App& app) {
         output::PacketOutputOptions po;
         po.realtime = !o->afap;
         po.pin_cpu = hostclock::sending_cpu_of(awake.get());
+        // Packets go to one deadline-ordered sending thread, as a rig's do: the writer hands
+        // them over ahead of time, so rendering and encoding never delay a send
+        // (docs/benchmarks.md §3.1). A capture alone is paced by the writer.
+        std::shared_ptr<udp::SharedSender> sender;
+        if (!o->afap && !o->to.empty())
+            sender = make_paced_sender(o->rt_priority, awake.get(), "emulate");
+        po.shared_sender = sender;
         po.status_line = !o->no_status;
         po.fifo_priority = o->rt_priority;
         po.start_lead = output::kEmulateStartLead;

@@ -18,6 +18,7 @@
 #include "mirage/navproto/protocol.hpp"
 #include "mirage/output/packetizer_sink.hpp"
 #include "mirage/udp/shared_sender.hpp"
+#include "paced_sender.hpp"
 #include "summary.hpp"
 
 namespace mirage::hil {
@@ -187,13 +188,7 @@ double rig_cpu_seconds(const RigRunOptions& o) {
 // One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
 // the senders of a 2-core machine would wake each other late (docs/rig.md §2).
 std::shared_ptr<udp::SharedSender> make_sender(const RigRunOptions& o) {
-    udp::SharedSenderConfig sc;
-    sc.fifo_priority = o.rt_priority;
-    sc.cpu = hostclock::sending_cpu_of(o.awake);
-    auto sender = std::make_shared<udp::SharedSender>(sc);
-    if ((o.rt_priority > 0 && !sender->fifo()) || (o.awake && !sender->fifo_error().empty()))
-        std::fprintf(stderr, "mirage rig: sender: %s\n", sender->fifo_error().c_str());
-    return sender;
+    return make_paced_sender(o.rt_priority, o.awake, "rig");
 }
 
 std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOptions& o,
