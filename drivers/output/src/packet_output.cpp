@@ -197,7 +197,7 @@ PacketOutputTotals PacketOutput::finish() {
     if (!pcap_error_.empty()) throw IoError(pcap_error_);
     const auto& st = shared_ ? shared_stats : pacer_.stats();
     totals_.late = st.late();
-    totals_.paced = st.count();
+    totals_.paced = opt_.realtime ? st.count() : 0;  // as fast as possible: nothing was paced
     totals_.from_50us = st.count_from(std::chrono::microseconds(50));
     totals_.worst_late = st.worst();
     totals_.p50 = st.percentile(0.50);
