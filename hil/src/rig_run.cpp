@@ -185,12 +185,6 @@ double rig_cpu_seconds(const RigRunOptions& o) {
     return hostclock::process_cpu_seconds() - (o.awake ? o.awake->cpu_seconds() : 0.0);
 }
 
-// One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
-// the senders of a 2-core machine would wake each other late (docs/rig.md §2).
-std::shared_ptr<udp::SharedSender> make_sender(const RigRunOptions& o) {
-    return make_paced_sender(o.rt_priority, o.awake, "rig");
-}
-
 std::vector<std::unique_ptr<RigRun>> open_runs(RigPlan& plan, const RigRunOptions& o,
                                                const std::shared_ptr<udp::SharedSender>& sender,
                                                bool gps_locked = true) {
@@ -388,7 +382,9 @@ control::RigStatus RigView::status() const {
 
 // A trajectory: every output's first pulse at the same host instant (one sensor clock).
 void run_rig(RigPlan& plan, const RigRunOptions& o) {
-    const auto sender = make_sender(o);
+    // One deadline-ordered thread sends every sensor's packets: with a pacing thread per sensor
+    // the senders of a 2-core machine would wake each other late (docs/rig.md §2).
+    const auto sender = make_paced_sender(o.rt_priority, o.awake, "rig");
     // Started "now": the first pulse on the host's GPS time ahead of the schedule, so every
     // packet carries CLOCK_REALTIME's time (docs/time.md §1); else the file's time, replayed.
     std::optional<hostclock::ClockStepFollower> clock;
@@ -430,7 +426,7 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
     std::fprintf(stderr, "%smirage rig: waiting for navigation on %s%s\n", describe(plan).c_str(),
                  c.nav.c_str(),
                  nav.udp_port() ? fmt::format(" (udp port {})", nav.udp_port()).c_str() : "");
-    const auto sender = make_sender(o);
+    const auto sender = make_paced_sender(o.rt_priority, o.awake, "rig");
     std::vector<std::unique_ptr<RigRun>> runs;
     LiveOptions lo;
     lo.status_line = false;

@@ -4,9 +4,11 @@
 #include <cstdint>
 #include <numbers>
 
+#include "mirage/core/time.hpp"
+
 namespace mirage::test {
 
 inline constexpr double kDeg = std::numbers::pi / 180.0;  // one degree, rad
-inline constexpr std::int64_t kS = 1'000'000'000;         // one second, ns (core::kNsPerSecond)
+inline constexpr std::int64_t kS = core::kNsPerSecond;    // one second, ns
 
 }  // namespace mirage::test
