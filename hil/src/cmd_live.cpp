@@ -23,6 +23,7 @@
 #include "mirage/output/packet_output.hpp"
 #include "mirage/udp/pacer.hpp"
 #include "mirage/wire/setup.hpp"
+#include "paced_sender.hpp"
 #include "stop_signal.hpp"
 
 namespace mirage::hil {
@@ -244,6 +245,11 @@ void register_live(CLI::App& app) {
         po.status_line = false;
         po.fifo_priority = o->rt_priority;
         po.pin_cpu = hostclock::sending_cpu_of(awake.get());
+        // One deadline-ordered sending thread, as emulate and rig: the loop hands packets over
+        // before their send times and goes on rendering (docs/live-navigation.md §1). A capture
+        // alone is paced by the loop.
+        if (!o->to.empty())
+            po.shared_sender = make_paced_sender(o->rt_priority, awake.get(), "live");
         po.pcap_path = o->pcap;
         const udp::StreamPorts ports =
             output::sensor_ports(ouster, o->data_port, o->position_port, o->imu_port);
@@ -252,6 +258,12 @@ void register_live(CLI::App& app) {
         wo.position_packets = ports.position != 0;
         wo.imu_packets = ports.imu != 0;
         output::PacketOutput out(po);
+        // The loop too must wake on time (it renders a window once its last firing has passed):
+        // it runs on the CPU kept awake, beside the sending thread. Pinned here, after the
+        // navigation threads started, so they do not inherit the pin.
+        if (std::string why;
+            awake && !hostclock::pin_current_thread(hostclock::sending_cpu_of(awake.get()), why))
+            std::fprintf(stderr, "mirage live: render loop not pinned to %s\n", why.c_str());
         const core::Nanos delay(static_cast<std::int64_t>(o->pipeline_delay_us * 1e3));
         LiveOptions lo;
         lo.status_line = !o->no_status;

@@ -93,7 +93,12 @@ void LiveSession::on_packet(const wire::PacketView& p) {
     out_(p);
     ++tot_.packets;
     tot_.bytes += p.bytes.size();
-    if (p.stream == wire::Stream::Data) latency_.data_packet_sent(hostclock::monotonic_ns());
+    if (p.stream != wire::Stream::Data) return;
+    // Handed to a sending thread, the packet leaves at its deadline, or at once when handed
+    // over late; the sender's own lateness is reported apart (docs/live-navigation.md §10).
+    const std::int64_t now = hostclock::monotonic_ns();
+    latency_.data_packet_sent(out_.hands_over_ahead() ? std::max(now, out_.deadline_ns(p.time))
+                                                      : now);
 }
 
 LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per_window,
@@ -120,6 +125,9 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         if (opt_.duration.count() > 0 && t_first - start >= opt_.duration) break;
         const std::int64_t off =
             opt_.host_clock_offset_ns ? *opt_.host_clock_offset_ns : nav_.offset_ns().value_or(0);
+        // Position / IMU packets due before this window's data packet leave on their own
+        // deadlines, not after the window is rendered (docs/live-navigation.md §1).
+        if (out_.hands_over_ahead()) packetizer.emit_side_packets_until(t_last);
         hostclock::sleep_until_monotonic(t_last.time_since_epoch().count() + off);
 
         pts.clear();

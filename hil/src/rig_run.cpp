@@ -39,6 +39,7 @@ class LasTee final : public wire::Packetizer {
         next_.add(points);
     }
     void advance_to(std::uint64_t next_pulse) override { next_.advance_to(next_pulse); }
+    void emit_side_packets_until(core::GpsTime t) override { next_.emit_side_packets_until(t); }
     void finish() override { next_.finish(); }
 
   private:

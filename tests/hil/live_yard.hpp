@@ -73,16 +73,22 @@ class Collector {
     }
     std::uint16_t port() const { return rx_.port(); }
     const std::vector<std::vector<std::uint8_t>>& packets() const { return packets_; }
+    // Kernel receive time (CLOCK_REALTIME ns, 0 if none) of each of packets().
+    const std::vector<std::int64_t>& kernel_times() const { return kernel_times_; }
 
   private:
     void run() {
         udp::ReceivedDatagram d;
         while (!stop_)
-            if (rx_.receive(d, std::chrono::milliseconds(50))) packets_.push_back(d.payload);
+            if (rx_.receive(d, std::chrono::milliseconds(50))) {
+                packets_.push_back(d.payload);
+                kernel_times_.push_back(d.kernel_time_ns);
+            }
     }
     udp::UdpReceiver rx_;
     std::atomic<bool> stop_{false};
     std::vector<std::vector<std::uint8_t>> packets_;
+    std::vector<std::int64_t> kernel_times_;
     std::thread thread_;
 };
 

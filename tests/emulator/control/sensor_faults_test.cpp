@@ -83,7 +83,9 @@ struct Recorder : wire::Packetizer {
         got.insert(got.end(), p.begin(), p.end());
     }
     void advance_to(std::uint64_t n) override { advanced = n; }
+    void emit_side_packets_until(core::GpsTime t) override { side_until = t; }
     void finish() override {}
+    core::GpsTime side_until{};
 };
 
 std::vector<core::PointRecord> points(std::size_t n) {
@@ -119,6 +121,16 @@ TEST(SensorFaults, RangeBiasAndNoiseHaveTheirStatistics) {
     const double sd = std::sqrt(sq / double(r.got.size()) - mean * mean);
     EXPECT_NEAR(mean, -0.250, 0.001);
     EXPECT_NEAR(sd, 0.030, 0.0015);
+}
+
+// Early side packets (docs/live-navigation.md §1) reach the packetizer behind the faults.
+TEST(SensorFaults, SidePacketRequestsPassThrough) {
+    Recorder r;
+    FaultCell c;
+    FaultPacketizer fp(r, c, 7, 0);
+    const core::GpsTime t{std::chrono::seconds(123)};
+    fp.emit_side_packets_until(t);
+    EXPECT_EQ(r.side_until, t);
 }
 
 TEST(SensorFaults, StaleNavigationSendsEmptySlots) {

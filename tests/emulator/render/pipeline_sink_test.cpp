@@ -133,6 +133,7 @@ TEST(PipelineSink, packetizer_sink_finish_finishes_the_packetizer) {
             calls += 'v';
             next = n;
         }
+        void emit_side_packets_until(core::GpsTime) override { calls += 's'; }
         void finish() override { calls += 'f'; }
     } packetizer;
     output::PacketizerSink sink(packetizer);

@@ -94,6 +94,11 @@ void OusterPacketizer::advance_to(std::uint64_t next_pulse) {
     emit_imu_until(covered_);
 }
 
+void OusterPacketizer::emit_side_packets_until(core::GpsTime t) {
+    // Not past the send time of the packet being filled (its last column's end).
+    emit_imu_until(std::min(t, column_time((current_ + 1) * d_.columns_per_packet)));
+}
+
 void OusterPacketizer::finish() { emit_imu_until(covered_); }
 
 void OusterPacketizer::emit_through(std::uint64_t packet_end) {

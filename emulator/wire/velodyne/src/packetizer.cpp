@@ -134,6 +134,11 @@ void Packetizer::advance_to(std::uint64_t next_pulse) {
     emit_through(next_pulse / pulses_per_packet_);
 }
 
+void Packetizer::emit_side_packets_until(core::GpsTime t) {
+    if (finished_) return;
+    emit_positions_until(std::min(t, packet_send_time(packet_)));
+}
+
 void Packetizer::finish() {
     // The packet being filled is partial (its pulses were not all delivered): dropped.
     finished_ = true;

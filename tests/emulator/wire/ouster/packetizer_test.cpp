@@ -252,6 +252,46 @@ TEST(OusterPacketizer, imu_packets_are_interleaved_in_time_order_at_100_hz) {
     EXPECT_EQ(calls, 11);
 }
 
+// Asked ahead of each lidar packet (a real-time caller, docs/live-navigation.md §1), the IMU
+// packets due before it come at once and never past its send time; the stream is unchanged.
+TEST(OusterPacketizer, imu_packets_come_early_and_leave_the_stream_unchanged) {
+    const Descriptor d = make_descriptor("os2-128-1024x10", Profile::Rng19Rfl8Sig16Nir16);
+    auto cfg = config();
+    cfg.imu = [](core::GpsTime t) {
+        ImuReading r;
+        r.accel_g = {0, 0, double((t - kStart).count()) * 1e-9};
+        return r;
+    };
+    std::vector<Captured> plain, early;
+    OusterPacketizer a(d, cfg, test::collect(plain));
+    OusterPacketizer b(d, cfg, test::collect(early));
+    const std::uint64_t cols = d.columns_per_packet, ppp = cols * d.beams;
+    std::size_t asked_and_came = 0;
+    for (std::uint64_t k = 0; k < 128; ++k) {  // two frames
+        const std::size_t before = early.size();
+        const core::GpsTime send = b.column_time((k + 1) * cols);
+        b.emit_side_packets_until(send + std::chrono::seconds(1));
+        for (std::size_t i = before; i < early.size(); ++i) {
+            EXPECT_EQ(early[i].stream, wire::Stream::Imu);
+            EXPECT_LE(early[i].time, send);
+            EXPECT_GT(early[i].time, k ? b.column_time(k * cols) : kStart - core::Nanos(1));
+            ++asked_and_came;
+        }
+        a.advance_to((k + 1) * ppp);
+        b.advance_to((k + 1) * ppp);
+    }
+    a.finish();
+    b.finish();
+    ASSERT_EQ(plain.size(), early.size());
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_EQ(plain[i].stream, early[i].stream) << i;
+        EXPECT_EQ(plain[i].time, early[i].time) << i;
+        EXPECT_EQ(plain[i].bytes, early[i].bytes) << i;
+    }
+    EXPECT_EQ(b.stats().imu_packets, 21u);  // t = 0, 10, …, 200 ms
+    EXPECT_EQ(asked_and_came, 21u);
+}
+
 // A step of the time source (docs/time.md §1) moves the sync-pulse and PTP stamps by it; the
 // internal oscillator runs on.
 TEST(OusterSensorClock, step_moves_the_followed_modes_only) {

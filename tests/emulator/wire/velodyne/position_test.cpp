@@ -105,6 +105,46 @@ TEST(VelodynePosition, packetizer_sends_position_packets_at_the_model_rate) {
     }
 }
 
+// A real-time caller asks for the position packets due before the data packet it is about to
+// render (docs/live-navigation.md §1): they come at once, none past that data packet's send time,
+// and the stream (order, times, bytes) is the one emitted without asking.
+TEST(VelodynePosition, side_packets_come_early_and_leave_the_stream_unchanged) {
+    const ModelDescriptor& md = descriptor(Model::Vlp16);
+    PacketizerOptions o;
+    o.start = core::parse_time("2024-01-01T00:00:00Z");
+    o.fixed_position = GeoFix{10.0, 20.0, 0, 0, true};
+    std::vector<test::CollectedPacket> plain, early;
+    Packetizer a(md, o, test::collect_into(plain));
+    Packetizer b(md, o, test::collect_into(early));
+    const std::uint64_t ppp = a.pulses_per_packet();
+    std::uint64_t asked_and_came = 0;
+    for (std::uint64_t k = 0; k < 800; ++k) {
+        const std::size_t before = early.size();
+        // Ask far beyond the packet: only what precedes its send time may come.
+        b.emit_side_packets_until(b.packet_send_time(k) + std::chrono::seconds(1));
+        for (std::size_t i = before; i < early.size(); ++i) {
+            EXPECT_EQ(early[i].stream, wire::Stream::Position);
+            EXPECT_LE(early[i].time, b.packet_send_time(k));
+            EXPECT_GT(early[i].time, k ? b.packet_send_time(k - 1) : o.start - core::Nanos(1));
+            ++asked_and_came;
+        }
+        a.advance_to((k + 1) * ppp);
+        b.advance_to((k + 1) * ppp);
+    }
+    ASSERT_EQ(plain.size(), early.size());
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_EQ(plain[i].stream, early[i].stream) << i;
+        EXPECT_EQ(plain[i].time, early[i].time) << i;
+        EXPECT_EQ(plain[i].bytes, early[i].bytes) << i;
+    }
+    // Position packets at start + n·period up to the last data packet's send time.
+    const auto span = (b.packet_send_time(799) - o.start).count();
+    EXPECT_EQ(b.stats().position_packets,
+              static_cast<std::uint64_t>(span / md.position_period_ns) + 1);
+    EXPECT_GT(b.stats().position_packets, 50u);
+    EXPECT_EQ(asked_and_came, b.stats().position_packets);
+}
+
 // A step of the clock source (docs/time.md §1): data, position and $GPRMC times jump by it from
 // the next packet on; the send times (the firing schedule) do not.
 TEST(VelodynePosition, clock_step_moves_every_timestamp_but_not_the_schedule) {

@@ -96,6 +96,11 @@ class PacketOutput {
     void anchor(core::GpsTime t0, std::int64_t host_monotonic_ns) {
         pacer_.anchor(t0, host_monotonic_ns);
     }
+    // Packets go to a deadline-ordered sending thread (a shared sender): operator() hands a
+    // packet over ahead of its send time instead of waiting for it.
+    bool hands_over_ahead() const { return shared_ != nullptr; }
+    // CLOCK_MONOTONIC ns at which a packet of sensor time `t` is due (realtime, once anchored).
+    std::int64_t deadline_ns(core::GpsTime t) const { return pacer_.deadline_ns(t); }
     // Flushes and closes the pcap and ends the status line. Throws IoError (naming the file) if
     // writing the capture failed at any point; the stream itself never stops for it.
     PacketOutputTotals finish();

@@ -61,6 +61,7 @@ class FaultPacketizer final : public wire::Packetizer {
         : inner_(inner), cell_(cell), seed_(seed), sensor_(sensor) {}
     void add(std::span<const core::PointRecord> points) override;
     void advance_to(std::uint64_t next_pulse) override { inner_.advance_to(next_pulse); }
+    void emit_side_packets_until(core::GpsTime t) override { inner_.emit_side_packets_until(t); }
     void finish() override { inner_.finish(); }
     // Readable from any thread while the sensor runs (the control plane's counters).
     std::uint64_t points() const { return points_.load(std::memory_order_relaxed); }

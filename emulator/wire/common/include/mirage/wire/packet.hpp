@@ -35,6 +35,11 @@ class Packetizer {
     virtual void add(std::span<const core::PointRecord> points) = 0;
     // Every pulse before `next_pulse` has been delivered: emit all packets that are complete.
     virtual void advance_to(std::uint64_t next_pulse) = 0;
+    // Emits the side-stream packets (Velodyne position, Ouster IMU) due at or before `t` that
+    // precede the data packet being filled, ahead of its pulses: a real-time caller hands them
+    // to a deadline-ordered sender before it renders that packet (docs/live-navigation.md §1).
+    // Those due later come with the data packets as usual; the stream is the same either way.
+    virtual void emit_side_packets_until(core::GpsTime t) = 0;
     // End of stream: emit what is complete; a partial data packet is dropped (devices only send
     // whole packets).
     virtual void finish() = 0;

@@ -65,6 +65,7 @@ class Packetizer final : public wire::Packetizer {
 
     void add(std::span<const core::PointRecord> points) override;
     void advance_to(std::uint64_t next_pulse) override;
+    void emit_side_packets_until(core::GpsTime t) override;
     void finish() override;
 
     const PacketizerStats& stats() const { return stats_; }
