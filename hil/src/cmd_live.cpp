@@ -244,7 +244,6 @@ void register_live(CLI::App& app) {
         po.realtime = true;
         po.status_line = false;
         po.fifo_priority = o->rt_priority;
-        po.pin_cpu = hostclock::sending_cpu_of(awake.get());
         // One deadline-ordered sending thread, as emulate and rig: the loop hands packets over
         // before their send times and goes on rendering (docs/live-navigation.md §1). A capture
         // alone is paced by the loop.

@@ -125,10 +125,9 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
         if (opt_.duration.count() > 0 && t_first - start >= opt_.duration) break;
         const std::int64_t off =
             opt_.host_clock_offset_ns ? *opt_.host_clock_offset_ns : nav_.offset_ns().value_or(0);
-        // Position / IMU packets due before this window's data packet leave on their own
-        // deadlines, not after the window is rendered (docs/live-navigation.md §1).
-        if (out_.hands_over_ahead()) packetizer.emit_side_packets_until(t_last);
-        hostclock::sleep_until_monotonic(t_last.time_since_epoch().count() + off);
+        const std::int64_t wake_ns = t_last.time_since_epoch().count() + off;
+        send_side_packets(packetizer, t_last, wake_ns);
+        hostclock::sleep_until_monotonic(wake_ns);
 
         pts.clear();
         ++tot_.windows;
@@ -175,6 +174,18 @@ LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per
     tot_.waiting_at_end = unused.waiting;
     tot_.seconds = double(hostclock::monotonic_ns() - t_begin) / 1e9;
     return tot_;
+}
+
+void LiveSession::send_side_packets(wire::Packetizer& packetizer, core::GpsTime t_last,
+                                    std::int64_t wake_ns) {
+    if (out_.hands_over_ahead()) {
+        packetizer.emit_side_packets_until(t_last);
+        return;
+    }
+    // Paced here: only those due before the loop wakes, or it would wake late. A packet's
+    // deadline lies `lead` (the pipeline delay) after its sensor time.
+    const core::Nanos lead(out_.deadline_ns(t_last) - wake_ns);
+    packetizer.emit_side_packets_until(t_last - lead);
 }
 
 void LiveSession::print_status(core::GpsTime t_last, bool stale, const std::string& stale_reason) {

@@ -107,6 +107,11 @@ class LiveSession {
     std::uint64_t stale_periods() const { return stale_periods_.load(std::memory_order_relaxed); }
 
   private:
+    // Hands over the position / IMU packets due before the window ending at `t_last`, before the
+    // loop sleeps until `wake_ns` to render it, so they leave on their own deadlines rather than
+    // after the render (docs/live-navigation.md §1).
+    void send_side_packets(wire::Packetizer& packetizer, core::GpsTime t_last,
+                           std::int64_t wake_ns);
     void print_status(core::GpsTime t_last, bool stale, const std::string& stale_reason);
 
     Job& job_;
