@@ -94,11 +94,9 @@ void LiveSession::on_packet(const wire::PacketView& p) {
     ++tot_.packets;
     tot_.bytes += p.bytes.size();
     if (p.stream != wire::Stream::Data) return;
-    // Handed to a sending thread, the packet leaves at its deadline, or at once when handed
-    // over late; the sender's own lateness is reported apart (docs/live-navigation.md §10).
-    const std::int64_t now = hostclock::monotonic_ns();
-    latency_.data_packet_sent(out_.hands_over_ahead() ? std::max(now, out_.deadline_ns(p.time))
-                                                      : now);
+    // Sent (paced here) or handed to a sending thread, the packet leaves at its deadline or at
+    // once when later; the sender's own lateness is reported apart (docs/live-navigation.md §10).
+    latency_.data_packet_sent(std::max(hostclock::monotonic_ns(), out_.deadline_ns(p.time)));
 }
 
 LiveTotals LiveSession::run(wire::Packetizer& packetizer, std::size_t pulses_per_window,

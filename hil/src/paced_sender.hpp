@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// The one sending thread of a real-time command (emulate, rig): packets are handed to it ahead
-// of their send times and it sends each at its deadline, so rendering and encoding never delay a
-// send (docs/rig.md §2, docs/benchmarks.md §3.1).
+// The one sending thread of a real-time command (emulate, live, rig): packets are handed to it
+// ahead of their send times and it sends each at its deadline, so rendering and encoding never
+// delay a send (docs/rig.md §2, docs/benchmarks.md §3.1).
 #pragma once
 #include <memory>
 
