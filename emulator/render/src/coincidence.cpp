@@ -31,12 +31,6 @@ double poisson_tail(double mean, std::uint32_t k) {
     return std::max(0.0, 1.0 - below);
 }
 
-// An event bin of a column's dwell: its events and the gates armed there.
-struct Bin {
-    std::int32_t b;
-    std::uint32_t h, armed;
-};
-
 std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
 
 std::size_t thread_count(int threads) {
@@ -66,6 +60,65 @@ void run_parts(std::size_t parts, F&& f) {
 
 }  // namespace
 
+namespace coincidence_detail {
+
+// An event bin of a column's dwell: its events and the gates armed there.
+struct Bin {
+    std::int32_t b;
+    std::uint32_t h, armed;
+};
+
+// How many of a column's values (its gates' top or bottom bins) are at least b, for many b: by
+// counts over the values' range when it is narrow (a column's gates open and close within a
+// few bins of each other), else by a sorted copy. O(values + range), or O(values log values).
+class AtLeast {
+  public:
+    template <class Value>
+    void build(std::size_t n, Value v) {
+        n_ = n;
+        if (n == 0) return;
+        lo_ = hi_ = v(0);
+        for (std::size_t i = 1; i < n; ++i) {
+            const std::int32_t x = v(i);
+            lo_ = std::min(lo_, x);
+            hi_ = std::max(hi_, x);
+        }
+        const std::uint64_t range = std::uint64_t(std::int64_t(hi_) - lo_) + 1;
+        dense_ = range <= 8 * std::uint64_t(n) + 256;
+        if (dense_) {
+            counts_.assign(range + 1, 0);
+            for (std::size_t i = 0; i < n; ++i) counts_[std::size_t(v(i) - lo_)]++;
+            for (std::size_t k = range; k-- > 0;) counts_[k] += counts_[k + 1];
+        } else {
+            sorted_.resize(n);
+            for (std::size_t i = 0; i < n; ++i) sorted_[i] = v(i);
+            std::sort(sorted_.begin(), sorted_.end());
+        }
+    }
+    std::size_t from(std::int64_t b) const {
+        if (n_ == 0 || b > hi_) return 0;
+        if (b <= lo_) return n_;
+        if (dense_) return counts_[std::size_t(b - lo_)];
+        return std::size_t(sorted_.end() - std::lower_bound(sorted_.begin(), sorted_.end(), b));
+    }
+
+  private:
+    std::size_t n_ = 0;
+    std::int32_t lo_ = 0, hi_ = 0;
+    bool dense_ = true;
+    std::vector<std::uint32_t> counts_;  // counts_[k]: values ≥ lo_ + k
+    std::vector<std::int32_t> sorted_;
+};
+
+}  // namespace coincidence_detail
+
+struct CoincidenceGrid::Scratch {
+    coincidence_detail::AtLeast tops, bottoms;
+    std::vector<std::uint64_t> fired;  // per event: (its bin − the lowest) << 32 | its index
+    std::vector<std::uint32_t> start;  // sort_by_bin's counts
+    std::vector<coincidence_detail::Bin> bins;
+};
+
 CoincidenceGrid::CoincidenceGrid(CoincidenceParams p) : p_(p) {
     if (!(p_.cell_m > 0.0) || !(p_.bin_m > 0.0) || !(p_.false_alarm > 0.0 && p_.false_alarm < 1.0))
         throw ConfigError(
@@ -89,19 +142,20 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
     if (!last_.column || last_.key != key) {
         last_.key = key;
         last_.column = &columns_[key];
+        last_.column->ix = ix;
+        last_.column->iy = iy;
     }
     Column& c = *last_.column;
     const std::int32_t top = bin_of(gate.origin.z() + gate.r0 * gate.dir.z());
     const std::int32_t bottom = bin_of(gate.origin.z() + gate.r1 * gate.dir.z());
     const std::int32_t stop = first ? std::clamp(bin_of(first->z), bottom, top) : bottom;
-    if (first) {
-        c.fired.push_back(stop);
-        c.gate_of.push_back(static_cast<std::uint32_t>(c.top.size()));
-        c.events.push_back(*first);
-    }
-    c.top.push_back(top);
-    c.bottom.push_back(bottom);
-    c.armed.push_back(static_cast<std::uint32_t>(top - stop + 1));
+    if (first)  // offsets from the cell's corner and the bin's floor (ColumnEvent)
+        c.events.push_back({static_cast<std::uint32_t>(c.gates.size()),
+                            static_cast<float>(first->x - double(ix) * p_.cell_m),
+                            static_cast<float>(first->y - double(iy) * p_.cell_m),
+                            static_cast<float>(first->z - double(stop) * p_.bin_m),
+                            first->classification, first->signal});
+    c.gates.push_back({top, bottom, stop});
 }
 
 std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
@@ -119,13 +173,16 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
     std::vector<double> noise(cells.size(), 0.0);
     std::vector<std::uint64_t> gates(parts, 0), events(parts, 0);
     run_parts(parts, [&](std::size_t t) {
+        Scratch scratch;
         for (std::size_t i = cells.size() * t / parts; i < cells.size() * (t + 1) / parts; ++i) {
             const Column& c = *cells[i].second;
-            const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.top.size()) : c.top.size();
+            const std::size_t g =
+                dwell ? std::min<std::size_t>(dwell, c.gates.size()) : c.gates.size();
             const auto m = static_cast<std::size_t>(
-                std::lower_bound(c.gate_of.begin(), c.gate_of.end(), std::uint32_t(g)) -
-                c.gate_of.begin());
-            finish_column({c, g, m}, out[t], noise[i]);
+                std::lower_bound(c.events.begin(), c.events.end(), g,
+                                 [](const ColumnEvent& e, std::size_t n) { return e.gate < n; }) -
+                c.events.begin());
+            finish_column({c, g, m}, scratch, out[t], noise[i]);
             gates[t] += g;
             events[t] += m;
         }
@@ -149,17 +206,17 @@ void CoincidenceGrid::append(CoincidenceGrid&& later) {
     last_.column = nullptr;
     for (auto& [key, from] : later.columns_) {
         Column& c = columns_[key];
-        if (c.top.empty()) {
+        if (c.gates.empty()) {
             c = std::move(from);
             continue;
         }
-        const auto offset = static_cast<std::uint32_t>(c.top.size());
-        c.top.insert(c.top.end(), from.top.begin(), from.top.end());
-        c.bottom.insert(c.bottom.end(), from.bottom.begin(), from.bottom.end());
-        c.armed.insert(c.armed.end(), from.armed.begin(), from.armed.end());
-        c.fired.insert(c.fired.end(), from.fired.begin(), from.fired.end());
-        for (const std::uint32_t g : from.gate_of) c.gate_of.push_back(g + offset);
-        c.events.insert(c.events.end(), from.events.begin(), from.events.end());
+        const auto offset = static_cast<std::uint32_t>(c.gates.size());
+        c.gates.insert(c.gates.end(), from.gates.begin(), from.gates.end());
+        c.events.reserve(c.events.size() + from.events.size());
+        for (ColumnEvent e : from.events) {
+            e.gate += offset;
+            c.events.push_back(e);
+        }
     }
     later.columns_.clear();
     later.last_.column = nullptr;
@@ -167,88 +224,114 @@ void CoincidenceGrid::append(CoincidenceGrid&& later) {
 
 namespace {
 
-// The distinct event bins of the first g gates and their m events, top first: gates covering
-// b, less those that fired above it, are armed at b.
-std::vector<Bin> event_bins(std::span<const std::int32_t> top_g,
-                            std::span<const std::int32_t> bottom_g,
-                            std::span<const std::int32_t> fired_m) {
-    std::vector<std::int32_t> top(top_g.begin(), top_g.end());
-    std::vector<std::int32_t> bottom(bottom_g.begin(), bottom_g.end());
-    std::vector<std::int32_t> fired(fired_m.begin(), fired_m.end());
-    std::sort(top.begin(), top.end());
-    std::sort(bottom.begin(), bottom.end());
-    std::sort(fired.begin(), fired.end());
-    std::vector<Bin> bins;
-    for (auto it = fired.rbegin(); it != fired.rend();) {
-        const std::int32_t b = *it;
-        const auto lo = std::lower_bound(fired.begin(), fired.end(), b);
-        const auto hi = std::upper_bound(fired.begin(), fired.end(), b);
-        const auto covering = (top.end() - std::lower_bound(top.begin(), top.end(), b)) -
-                              (bottom.end() - std::upper_bound(bottom.begin(), bottom.end(), b));
-        const auto above = fired.end() - hi;
+using coincidence_detail::AtLeast;
+using coincidence_detail::Bin;
+
+// The distinct bins of a column's events (sorted: bin − lowest in the high word), top first:
+// gates covering b, less those that fired above it, are armed at b.
+void event_bins(std::int32_t lowest, std::span<const std::uint64_t> sorted, const AtLeast& tops,
+                const AtLeast& bottoms, std::vector<Bin>& bins) {
+    bins.clear();
+    for (std::size_t hi = sorted.size(); hi > 0;) {
+        const std::uint64_t key = sorted[hi - 1] >> 32;
+        std::size_t lo = hi - 1;
+        while (lo > 0 && (sorted[lo - 1] >> 32) == key) --lo;
+        const std::int32_t b = lowest + static_cast<std::int32_t>(key);
+        const auto covering = static_cast<std::ptrdiff_t>(tops.from(b)) -
+                              static_cast<std::ptrdiff_t>(bottoms.from(std::int64_t(b) + 1));
+        const auto above = static_cast<std::ptrdiff_t>(sorted.size() - hi);
         bins.push_back({b, static_cast<std::uint32_t>(hi - lo),
                         static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(covering - above, 0))});
-        it += hi - lo;
+        hi = lo;
     }
-    return bins;
 }
 
 }  // namespace
 
+// The dwell's events by bin and, within one, by time, into s.fired (the bin less the lowest in
+// the high word, the event in the low): counted out when the bins span a narrow range (a column's
+// events, noise included, fall within its gates), else sorted. Returns the lowest bin.
+std::int32_t CoincidenceGrid::sort_by_bin(const Dwell& d, Scratch& s) const {
+    const Column& c = d.c;
+    const auto bin = [&](std::size_t j) { return c.gates[c.events[j].gate].stop; };
+    std::int32_t lowest = bin(0), highest = lowest;
+    for (std::size_t j = 1; j < d.m; ++j) {
+        lowest = std::min(lowest, bin(j));
+        highest = std::max(highest, bin(j));
+    }
+    const auto key = [&](std::size_t j) {
+        return (std::uint64_t(std::int64_t(bin(j)) - lowest) << 32) | j;
+    };
+    const std::uint64_t range = std::uint64_t(std::int64_t(highest) - lowest) + 1;
+    s.fired.resize(d.m);
+    if (range > 8 * std::uint64_t(d.m) + 256) {
+        for (std::size_t j = 0; j < d.m; ++j) s.fired[j] = key(j);
+        std::sort(s.fired.begin(), s.fired.end());
+        return lowest;
+    }
+    s.start.assign(range + 1, 0);  // start[k]: events in bins below lowest + k
+    for (std::size_t j = 0; j < d.m; ++j) s.start[std::size_t(bin(j) - lowest) + 1]++;
+    for (std::size_t k = 0; k < range; ++k) s.start[k + 1] += s.start[k];
+    for (std::size_t j = 0; j < d.m; ++j) s.fired[s.start[std::size_t(bin(j) - lowest)]++] = key(j);
+    return lowest;
+}
+
 // Per event bin b: n̂_b = −ln(1 − h_b/A_b) over its armed gates A_b. The noise per gate-bin is the
 // column's events over its armed gate-bins, taken again without the bins that stand out (a
 // surface's own events).
-void CoincidenceGrid::finish_column(const Dwell& d, std::vector<CoincidencePoint>& out,
+void CoincidenceGrid::finish_column(const Dwell& d, Scratch& s, std::vector<CoincidencePoint>& out,
                                     double& noise) const {
     if (d.m == 0) return;
     const Column& c = d.c;
     std::uint64_t armed_bins = 0;
-    for (std::size_t i = 0; i < d.g; ++i) armed_bins += c.armed[i];
-    const std::vector<Bin> bins =
-        event_bins({c.top.data(), d.g}, {c.bottom.data(), d.g}, {c.fired.data(), d.m});
+    for (std::size_t i = 0; i < d.g; ++i)
+        armed_bins +=
+            static_cast<std::uint64_t>(std::int64_t(c.gates[i].top) - c.gates[i].stop + 1);
+    s.tops.build(d.g, [&](std::size_t i) { return c.gates[i].top; });
+    s.bottoms.build(d.g, [&](std::size_t i) { return c.gates[i].bottom; });
+    const std::int32_t lowest = sort_by_bin(d, s);
+    event_bins(lowest, s.fired, s.tops, s.bottoms, s.bins);
     const auto stands_out = [&](const Bin& x, double nu) {
         return x.h >= p_.min_events && poisson_tail(nu * x.armed, x.h) < p_.false_alarm;
     };
     noise = double(d.m) / double(std::max<std::uint64_t>(1, armed_bins));
     for (int pass = 0; pass < 3; ++pass) {  // a few rounds settle which bins stand out
         double h_rest = double(d.m), a_rest = double(armed_bins);
-        for (const Bin& x : bins)
+        for (const Bin& x : s.bins)
             if (stands_out(x, noise)) h_rest -= x.h, a_rest -= x.armed;
         noise = a_rest > 0.0 ? std::max(0.0, h_rest) / a_rest : 0.0;
     }
-    // The dwell's events by bin, so each point reads its own.
-    std::vector<std::uint32_t> order(d.m);
-    for (std::uint32_t j = 0; j < order.size(); ++j) order[j] = j;
-    std::sort(order.begin(), order.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return c.fired[a] < c.fired[b]; });
-    std::vector<std::int32_t> keys(order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) keys[k] = c.fired[order[k]];
-    for (const Bin& x : bins) {
-        if (!stands_out(x, noise) || x.armed == 0) continue;
-        const auto [lo, hi] = std::equal_range(keys.begin(), keys.end(), x.b);
-        out.push_back(bin_point(c, x.h, x.armed,
-                                std::span<const std::uint32_t>(order.data() + (lo - keys.begin()),
-                                                               static_cast<std::size_t>(hi - lo))));
+    // The bins come top first: bin x's events end where the events of the bins above begin.
+    std::size_t end = d.m;
+    for (const Bin& x : s.bins) {
+        const std::size_t begin = end - x.h;
+        if (stands_out(x, noise) && x.armed > 0)
+            out.push_back(bin_point(c, x.b, x.h, x.armed, {s.fired.data() + begin, x.h}));
+        end = begin;
     }
 }
 
 // A standing-out bin's point: its events' mean position, most frequent class and truth share.
-CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::uint32_t h, std::uint32_t armed,
-                                            std::span<const std::uint32_t> events) const {
+CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::int32_t b, std::uint32_t h,
+                                            std::uint32_t armed,
+                                            std::span<const std::uint64_t> events) const {
     CoincidencePoint pt;
     pt.events = h;
     pt.gates = armed;
     pt.expected = h >= armed ? INFINITY : -std::log1p(-double(h) / double(armed));
     std::uint32_t by_class[256] = {};
     std::uint32_t signal = 0;
-    for (const std::uint32_t j : events) {
-        const GateEvent& e = c.events[j];
-        pt.x += e.x, pt.y += e.y, pt.z += e.z;
+    double dx = 0, dy = 0, dz = 0;
+    for (const std::uint64_t key : events) {
+        const ColumnEvent& e = c.events[key & 0xFFFFFFFFu];
+        dx += e.dx, dy += e.dy, dz += e.dz;
         by_class[e.classification]++;
         signal += e.signal;
     }
     const double n = double(h);
-    pt.x /= n, pt.y /= n, pt.z /= n;
+    pt.x = double(c.ix) * p_.cell_m + dx / n;
+    pt.y = double(c.iy) * p_.cell_m + dy / n;
+    pt.z = double(b) * p_.bin_m + dz / n;
     pt.classification =
         static_cast<std::uint8_t>(std::max_element(by_class, by_class + 256) - by_class);
     pt.signal_share = double(signal) / n;

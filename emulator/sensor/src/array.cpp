@@ -15,16 +15,23 @@ namespace {
 // The most pixels an array may have (a pixel index fits 32 bits with room; 4096 × 4096).
 constexpr std::uint64_t kMaxPixels = 4096ull * 4096ull;
 
-// v turned by the rotation that takes unit a onto unit b about a × b (Rodrigues without
-// trigonometry: c = a·b, w = a × b, R·v = c·v + w × v + w·(w·v)/(1 + c)); opposite vectors turn
-// by π about `fallback`, a unit vector orthogonal to a.
-Eigen::Vector3d turn(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                     const Eigen::Vector3d& fallback, const Eigen::Vector3d& v) {
-    const double c = a.dot(b);
-    if (1.0 + c < 1e-12) return 2.0 * fallback.dot(v) * fallback - v;
-    const Eigen::Vector3d w = a.cross(b);
-    return c * v + w.cross(v) + w * (w.dot(v) / (1.0 + c));
-}
+// The rotation that takes unit a onto unit b about a × b (Rodrigues without trigonometry:
+// c = a·b, w = a × b, R·v = c·v + w × v + w·(w·v)/(1 + c)); opposite vectors turn by π about
+// `fallback`, a unit vector orthogonal to a. Made once per laser pulse, applied per pixel.
+class Turn {
+  public:
+    Turn(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& fallback)
+        : c_(a.dot(b)), w_(a.cross(b)), fallback_(fallback), opposite_(1.0 + c_ < 1e-12) {}
+    Eigen::Vector3d operator()(const Eigen::Vector3d& v) const {
+        if (opposite_) return 2.0 * fallback_.dot(v) * fallback_ - v;
+        return c_ * v + w_.cross(v) + w_ * (w_.dot(v) / (1.0 + c_));
+    }
+
+  private:
+    double c_;
+    Eigen::Vector3d w_, fallback_;
+    bool opposite_;
+};
 
 // Pixel i's tangent-plane offset from the array's centre, in pixels.
 double centred(std::uint32_t i, std::uint32_t n) { return double(i) - 0.5 * double(n - 1); }
@@ -58,12 +65,12 @@ void ArrayScan::pulses(std::uint64_t first, std::size_t n, PulseSpec* out) const
         const std::uint64_t laser = k / pixels_;
         PulseSpec spec;
         laser_->pulses(laser, 1, &spec);
-        const Eigen::Vector3d d = spec.dir.cast<double>().normalized();
+        const Turn turn(boresight_, spec.dir.cast<double>().normalized(), fallback);
         auto p = static_cast<std::uint32_t>(k % pixels_);
         for (; p < pixels_ && done < n; ++p, ++done) {
             PulseSpec& o = out[done];
             o = spec;
-            o.dir = turn(boresight_, d, fallback, pixel_dirs_[p]).cast<float>();
+            o.dir = turn(pixel_dirs_[p]).cast<float>();
             o.pixel = p;
         }
     }

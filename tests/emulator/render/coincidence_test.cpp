@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -123,6 +124,75 @@ TEST(Coincidence, appended_grids_equal_one_grid_of_all_their_gates) {
     CoincidenceStats d;
     first.finish(&d, 10000);
     EXPECT_EQ(d.gates, 10000u);
+}
+
+// The armed gates and events of every event bin, against a direct count over the gates: gates
+// opening within a few bins of each other (counted by bin) and spread over kilometres (sorted),
+// and a dwell cutting either. Every bin with an event stands out here (min_events 1, a
+// false-alarm probability near 1), so each point is one bin to check.
+TEST(Coincidence, armed_gates_and_events_match_a_direct_count) {
+    for (const double spread : {1.0, 5000.0}) {
+        const double bin = 0.25;
+        CoincidenceGrid grid({1.0, bin, 1, 1.0 - 1e-9, 0, {}});
+        struct G {
+            std::int64_t top, bottom, stop;
+            bool fired;
+        };
+        std::vector<G> gates;
+        core::PulseRng rng(42, static_cast<std::uint64_t>(spread), 0);
+        for (int k = 0; k < 400; ++k) {
+            const double z0 = 1000.0 + spread * rng.uniform();  // the gate opens here
+            const double length = 100.0 + spread;               // so the gates overlap
+            const Gate gate{{0.3, 0.6, z0 + 50.0}, {0, 0, -1}, 50.0, 50.0 + length};
+            G g{std::int64_t(std::floor(z0 / bin)), std::int64_t(std::floor((z0 - length) / bin)),
+                0, rng.uniform() < 0.6};
+            g.stop = g.bottom;
+            if (g.fired) {
+                // Events fall on 7 depths into the gate, so bins gather several; those near
+                // its ends lie among the other gates' ends.
+                constexpr double kDepth[7] = {0.002, 0.006, 0.25, 0.5, 0.75, 0.994, 0.998};
+                const double z = z0 - length * kDepth[std::size_t(7.0 * rng.uniform())];
+                const GateEvent e{0.3, 0.6, z, 2, true};
+                g.stop = std::int64_t(std::floor(z / bin));
+                grid.add(gate, &e);
+            } else {
+                grid.add(gate, nullptr);
+            }
+            gates.push_back(g);
+        }
+        for (const std::uint32_t dwell : {0u, 150u}) {
+            const std::size_t n = dwell ? dwell : gates.size();
+            const auto pts = grid.finish(nullptr, dwell);
+            std::size_t bins_with_armed_gates = 0;
+            std::vector<std::int64_t> seen;
+            for (std::size_t i = 0; i < n; ++i)
+                if (gates[i].fired) seen.push_back(gates[i].stop);
+            std::sort(seen.begin(), seen.end());
+            seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+            for (const std::int64_t b : seen) {
+                std::int64_t events = 0, covering = 0, above = 0;
+                for (std::size_t i = 0; i < n; ++i) {
+                    const G& g = gates[i];
+                    events += g.fired && g.stop == b;
+                    above += g.fired && g.stop > b;
+                    covering += g.bottom <= b && b <= g.top;
+                }
+                const std::int64_t armed = std::max<std::int64_t>(covering - above, 0);
+                if (armed == 0) continue;
+                ++bins_with_armed_gates;
+                const auto p = std::find_if(pts.begin(), pts.end(), [&](const auto& q) {
+                    return std::int64_t(std::floor(q.z / bin)) == b;
+                });
+                ASSERT_NE(p, pts.end()) << "spread " << spread << " bin " << b;
+                EXPECT_EQ(p->events, std::uint32_t(events)) << "spread " << spread << " bin " << b;
+                EXPECT_EQ(p->gates, std::uint32_t(armed)) << "spread " << spread << " bin " << b;
+                EXPECT_NEAR(p->x, 0.3, 1e-6);
+                EXPECT_NEAR(p->y, 0.6, 1e-6);
+            }
+            EXPECT_EQ(pts.size(), bins_with_armed_gates) << "spread " << spread;
+            EXPECT_GT(bins_with_armed_gates, 5u);
+        }
+    }
 }
 
 TEST(Coincidence, noise_alone_gives_no_point) {

@@ -83,24 +83,36 @@ class CoincidenceGrid {
     void append(CoincidenceGrid&& later);
 
   private:
+    // A gate's bins: its first (top) and last (bottom) height bin and the one it stopped at
+    // (its first event's, or bottom): armed for top − stop + 1 bins.
+    struct GateBins {
+        std::int32_t top, bottom, stop;
+    };
+    // A first event, compactly (docs/photon-counting.md §5): its gate's index in the column and
+    // its position as float offsets from the cell's corner and its bin's floor (exact to ~1e-7 m
+    // there, where a double of the whole coordinate costs three times the memory).
+    struct ColumnEvent {
+        std::uint32_t gate;
+        float dx, dy, dz;
+        std::uint8_t classification;
+        bool signal;
+    };
     struct Column {
-        // Per gate, in time order: its first and last bin (top ≥ bottom) and the bins it was
-        // armed for (to its event, or all).
-        std::vector<std::int32_t> top, bottom;
-        std::vector<std::uint32_t> armed;
-        // Per first event, in time order: its bin and its gate's index in the column.
-        std::vector<std::int32_t> fired;
-        std::vector<std::uint32_t> gate_of;
-        std::vector<GateEvent> events;
+        std::int64_t ix = 0, iy = 0;      // the cell
+        std::vector<GateBins> gates;      // in time order
+        std::vector<ColumnEvent> events;  // in time order (so by gate)
     };
     // Of column c, its first g gates and their m events.
     struct Dwell {
         const Column& c;
         std::size_t g, m;
     };
-    void finish_column(const Dwell& d, std::vector<CoincidencePoint>& out, double& noise) const;
-    CoincidencePoint bin_point(const Column& c, std::uint32_t h, std::uint32_t armed,
-                               std::span<const std::uint32_t> events) const;
+    struct Scratch;  // a thread's buffers, reused from column to column
+    std::int32_t sort_by_bin(const Dwell& d, Scratch& s) const;
+    void finish_column(const Dwell& d, Scratch& s, std::vector<CoincidencePoint>& out,
+                       double& noise) const;
+    CoincidencePoint bin_point(const Column& c, std::int32_t b, std::uint32_t h,
+                               std::uint32_t armed, std::span<const std::uint64_t> events) const;
     std::int32_t bin_of(double z) const;
 
     // The column add() used last: a frame's neighbouring pixels mostly share a cell. Never
