@@ -92,6 +92,7 @@ Framing frame_the_vehicle(std::uint64_t seed) {
     const double cell = f.cp.cell_m;
     const double x0 = cell * std::round((f.at.x() - kFrame / 2) / cell);
     const double y0 = cell * std::round((f.at.y() - kFrame / 2) / cell);
+    f.cp.dwells = true;  // one grid, finished at each pulse count per cell
     f.cp.window = render::CoincidenceWindow{x0 - kBorder, y0 - kBorder, x0 + kFrame + kBorder,
                                             y0 + kFrame + kBorder};
     // Top: north up, one pixel per cell. Side: along the vehicle, a 2 m slab through its middle.

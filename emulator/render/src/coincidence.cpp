@@ -95,6 +95,21 @@ class AtLeast {
             std::sort(sorted_.begin(), sorted_.end());
         }
     }
+    // From counts by bin (counts[k]: values lo + k, both ends non-zero) or a list.
+    void build(std::int32_t lo, std::span<const std::uint32_t> counts,
+               std::span<const std::int32_t> values) {
+        if (!values.empty() || counts.empty()) {
+            build(values.size(), [&](std::size_t i) { return values[i]; });
+            return;
+        }
+        lo_ = lo;
+        hi_ = lo + static_cast<std::int32_t>(counts.size() - 1);
+        dense_ = true;
+        counts_.assign(counts.size() + 1, 0);
+        std::copy(counts.begin(), counts.end(), counts_.begin());
+        for (std::size_t k = counts.size(); k-- > 0;) counts_[k] += counts_[k + 1];
+        n_ = counts_[0];
+    }
     std::size_t from(std::int64_t b) const {
         if (n_ == 0 || b > hi_) return 0;
         if (b <= lo_) return n_;
@@ -149,18 +164,70 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
     const std::int32_t top = bin_of(gate.origin.z() + gate.r0 * gate.dir.z());
     const std::int32_t bottom = bin_of(gate.origin.z() + gate.r1 * gate.dir.z());
     const std::int32_t stop = first ? std::clamp(bin_of(first->z), bottom, top) : bottom;
+    const std::uint32_t number = c.count++;
     if (first)  // offsets from the cell's corner and the bin's floor (ColumnEvent)
-        c.events.push_back({static_cast<std::uint32_t>(c.gates.size()),
-                            static_cast<float>(first->x - double(ix) * p_.cell_m),
+        c.events.push_back({number, stop, static_cast<float>(first->x - double(ix) * p_.cell_m),
                             static_cast<float>(first->y - double(iy) * p_.cell_m),
                             static_cast<float>(first->z - double(stop) * p_.bin_m),
                             first->classification, first->signal});
-    c.gates.push_back({top, bottom, stop});
+    if (keep_gates()) {
+        c.gates.push_back({top, bottom, stop});
+        return;
+    }
+    c.tops.add(top);
+    c.bottoms.add(bottom);
+    c.armed_bins += static_cast<std::uint64_t>(std::int64_t(top) - stop + 1);
+}
+
+void CoincidenceGrid::Tally::add(std::int32_t v) {
+    if (!values.empty()) {
+        values.push_back(v);
+        return;
+    }
+    if (counts.empty()) {
+        lo = v;
+        counts.assign(1, 0);
+    }
+    const std::int64_t k = std::int64_t(v) - lo;
+    const std::int64_t hi = std::max<std::int64_t>(k, std::int64_t(counts.size()) - 1);
+    if (hi - std::min<std::int64_t>(k, 0) >= std::int64_t(kWide)) {
+        list();
+        values.push_back(v);
+        return;
+    }
+    if (k < 0) {
+        counts.insert(counts.begin(), static_cast<std::size_t>(-k), 0);
+        lo = v;
+    } else if (k >= std::int64_t(counts.size())) {
+        counts.resize(static_cast<std::size_t>(k) + 1, 0);
+    }
+    counts[static_cast<std::size_t>(std::int64_t(v) - lo)]++;
+}
+
+// From counts to a list of the values (a wide range).
+void CoincidenceGrid::Tally::list() {
+    for (std::size_t k = 0; k < counts.size(); ++k)
+        values.insert(values.end(), counts[k], lo + static_cast<std::int32_t>(k));
+    counts.clear();
+}
+
+void CoincidenceGrid::Tally::merge(const Tally& other) {
+    if (!other.values.empty()) {
+        list();
+        values.insert(values.end(), other.values.begin(), other.values.end());
+        return;
+    }
+    for (std::size_t k = 0; k < other.counts.size(); ++k)
+        for (std::uint32_t n = 0; n < other.counts[k]; ++n)
+            add(other.lo + static_cast<std::int32_t>(k));
 }
 
 std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
                                                       std::uint32_t gates_per_cell) const {
     const std::uint32_t dwell = gates_per_cell ? gates_per_cell : p_.gates_per_cell;
+    if (dwell && !keep_gates())
+        throw Error("coincidence: a dwell of " + std::to_string(dwell) +
+                    " gates from a grid made without dwells");
     // Cells in key order, so neither the points' order nor the noise's sum depends on threads.
     std::vector<std::pair<std::int64_t, const Column*>> cells;
     cells.reserve(columns_.size());
@@ -176,8 +243,7 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
         Scratch scratch;
         for (std::size_t i = cells.size() * t / parts; i < cells.size() * (t + 1) / parts; ++i) {
             const Column& c = *cells[i].second;
-            const std::size_t g =
-                dwell ? std::min<std::size_t>(dwell, c.gates.size()) : c.gates.size();
+            const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.count) : c.count;
             const auto m = static_cast<std::size_t>(
                 std::lower_bound(c.events.begin(), c.events.end(), g,
                                  [](const ColumnEvent& e, std::size_t n) { return e.gate < n; }) -
@@ -206,12 +272,16 @@ void CoincidenceGrid::append(CoincidenceGrid&& later) {
     last_.column = nullptr;
     for (auto& [key, from] : later.columns_) {
         Column& c = columns_[key];
-        if (c.gates.empty()) {
+        if (c.count == 0) {
             c = std::move(from);
             continue;
         }
-        const auto offset = static_cast<std::uint32_t>(c.gates.size());
+        const std::uint32_t offset = c.count;
+        c.count += from.count;
         c.gates.insert(c.gates.end(), from.gates.begin(), from.gates.end());
+        c.tops.merge(from.tops);
+        c.bottoms.merge(from.bottoms);
+        c.armed_bins += from.armed_bins;
         c.events.reserve(c.events.size() + from.events.size());
         for (ColumnEvent e : from.events) {
             e.gate += offset;
@@ -253,7 +323,7 @@ void event_bins(std::int32_t lowest, std::span<const std::uint64_t> sorted, cons
 // events, noise included, fall within its gates), else sorted. Returns the lowest bin.
 std::int32_t CoincidenceGrid::sort_by_bin(const Dwell& d, Scratch& s) const {
     const Column& c = d.c;
-    const auto bin = [&](std::size_t j) { return c.gates[c.events[j].gate].stop; };
+    const auto bin = [&](std::size_t j) { return c.events[j].bin; };
     std::int32_t lowest = bin(0), highest = lowest;
     for (std::size_t j = 1; j < d.m; ++j) {
         lowest = std::min(lowest, bin(j));
@@ -283,12 +353,17 @@ void CoincidenceGrid::finish_column(const Dwell& d, Scratch& s, std::vector<Coin
                                     double& noise) const {
     if (d.m == 0) return;
     const Column& c = d.c;
-    std::uint64_t armed_bins = 0;
-    for (std::size_t i = 0; i < d.g; ++i)
-        armed_bins +=
-            static_cast<std::uint64_t>(std::int64_t(c.gates[i].top) - c.gates[i].stop + 1);
-    s.tops.build(d.g, [&](std::size_t i) { return c.gates[i].top; });
-    s.bottoms.build(d.g, [&](std::size_t i) { return c.gates[i].bottom; });
+    std::uint64_t armed_bins = c.armed_bins;
+    if (keep_gates()) {
+        for (std::size_t i = 0; i < d.g; ++i)
+            armed_bins +=
+                static_cast<std::uint64_t>(std::int64_t(c.gates[i].top) - c.gates[i].stop + 1);
+        s.tops.build(d.g, [&](std::size_t i) { return c.gates[i].top; });
+        s.bottoms.build(d.g, [&](std::size_t i) { return c.gates[i].bottom; });
+    } else {
+        s.tops.build(c.tops.lo, c.tops.counts, c.tops.values);
+        s.bottoms.build(c.bottoms.lo, c.bottoms.counts, c.bottoms.values);
+    }
     const std::int32_t lowest = sort_by_bin(d, s);
     event_bins(lowest, s.fired, s.tops, s.bottoms, s.bins);
     const auto stands_out = [&](const Bin& x, double nu) {

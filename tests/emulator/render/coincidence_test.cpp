@@ -26,11 +26,11 @@ constexpr std::size_t kBins = 400;  // and spans 100 m
 CoincidenceGrid collect_grid(std::uint64_t gates, std::vector<std::pair<double, double>> returns,
                              double noise, std::uint64_t seed, double false_alarm = 1e-6,
                              std::optional<CoincidenceWindow> window = {},
-                             std::uint64_t first_gate = 0) {
+                             std::uint64_t first_gate = 0, bool dwells = false) {
     std::vector<double> signal(kBins, 0.0);
     for (const auto& [z, n] : returns) signal[static_cast<std::size_t>((kTop - z) / kBin)] += n;
     const physics::EventRate rate(signal, noise, kBin);
-    CoincidenceGrid grid({1.0, kBin, 3, false_alarm, 0, window});
+    CoincidenceGrid grid({1.0, kBin, 3, false_alarm, 0, window, 0, dwells});
     std::vector<physics::GeigerEvent> ev;
     for (std::uint64_t g = first_gate; g < first_gate + gates; ++g) {
         core::PulseRng rng(seed, g, 0);
@@ -79,7 +79,8 @@ TEST(Coincidence, coates_recovers_the_return_and_the_noise) {
 // finished at 5000 gives exactly what a collection of 5000 gives (the same first 5000 gates).
 TEST(Coincidence, a_dwell_counts_the_first_gates_of_each_cell) {
     CoincidenceStats all, dwell, short_run;
-    const CoincidenceGrid grid = collect_grid(20000, {{40.1, 0.5}}, 0.002, 1);
+    // A grid made for dwells against collections counted without one (the alone one).
+    const CoincidenceGrid grid = collect_grid(20000, {{40.1, 0.5}}, 0.002, 1, 1e-6, {}, 0, true);
     const auto full = grid.finish(&all);
     const auto part = grid.finish(&dwell, 5000);
     const auto alone = collect(5000, {{40.1, 0.5}}, 0.002, 1, &short_run);
@@ -105,92 +106,110 @@ TEST(Coincidence, a_dwell_counts_the_first_gates_of_each_cell) {
 
 // Threads fill grids of consecutive gates and append them: the same as one grid of all gates.
 TEST(Coincidence, appended_grids_equal_one_grid_of_all_their_gates) {
-    CoincidenceStats one, two;
-    const auto whole = collect_grid(20000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7).finish(&one);
-    CoincidenceGrid first = collect_grid(8000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7);
-    first.append(collect_grid(12000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7, 1e-6, {}, 8000));
-    const auto joined = first.finish(&two, 0);
-    ASSERT_EQ(whole.size(), 2u);
-    ASSERT_EQ(joined.size(), whole.size());
-    for (std::size_t k = 0; k < whole.size(); ++k) {
-        EXPECT_EQ(joined[k].z, whole[k].z);
-        EXPECT_EQ(joined[k].expected, whole[k].expected);
-        EXPECT_EQ(joined[k].events, whole[k].events);
+    for (const bool dwells : {false, true}) {
+        CoincidenceStats one, two;
+        const auto whole =
+            collect_grid(20000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7, 1e-6, {}, 0, dwells)
+                .finish(&one);
+        CoincidenceGrid first =
+            collect_grid(8000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7, 1e-6, {}, 0, dwells);
+        first.append(
+            collect_grid(12000, {{40.1, 0.5}, {45.1, 0.3}}, 0.002, 7, 1e-6, {}, 8000, dwells));
+        const auto joined = first.finish(&two, 0);
+        ASSERT_EQ(whole.size(), 2u);
+        ASSERT_EQ(joined.size(), whole.size());
+        for (std::size_t k = 0; k < whole.size(); ++k) {
+            EXPECT_EQ(joined[k].z, whole[k].z);
+            EXPECT_EQ(joined[k].expected, whole[k].expected);
+            EXPECT_EQ(joined[k].events, whole[k].events);
+        }
+        EXPECT_EQ(two.gates, one.gates);
+        EXPECT_EQ(two.events, one.events);
+        EXPECT_EQ(two.noise_per_bin, one.noise_per_bin);
+        if (!dwells) {  // counts alone cannot answer a dwell
+            EXPECT_THROW(first.finish(nullptr, 10000), Error);
+            continue;
+        }
+        // And a dwell over the joined grid reaches into the appended gates in order.
+        CoincidenceStats d;
+        first.finish(&d, 10000);
+        EXPECT_EQ(d.gates, 10000u);
     }
-    EXPECT_EQ(two.gates, one.gates);
-    EXPECT_EQ(two.events, one.events);
-    EXPECT_EQ(two.noise_per_bin, one.noise_per_bin);
-    // And a dwell over the joined grid reaches into the appended gates in order.
-    CoincidenceStats d;
-    first.finish(&d, 10000);
-    EXPECT_EQ(d.gates, 10000u);
 }
 
 // The armed gates and events of every event bin, against a direct count over the gates: gates
-// opening within a few bins of each other (counted by bin) and spread over kilometres (sorted),
-// and a dwell cutting either. Every bin with an event stands out here (min_events 1, a
-// false-alarm probability near 1), so each point is one bin to check.
+// opening within a few bins of each other (counted by bin), and half of them spread over
+// kilometres (listed), with and without a dwell, from a grid keeping every gate and from one
+// keeping counts. Every bin with an event stands out here (min_events 1, a false-alarm
+// probability near 1), so each point is one bin to check.
 TEST(Coincidence, armed_gates_and_events_match_a_direct_count) {
     for (const double spread : {1.0, 5000.0}) {
-        const double bin = 0.25;
-        CoincidenceGrid grid({1.0, bin, 1, 1.0 - 1e-9, 0, {}});
-        struct G {
-            std::int64_t top, bottom, stop;
-            bool fired;
-        };
-        std::vector<G> gates;
-        core::PulseRng rng(42, static_cast<std::uint64_t>(spread), 0);
-        for (int k = 0; k < 400; ++k) {
-            const double z0 = 1000.0 + spread * rng.uniform();  // the gate opens here
-            const double length = 100.0 + spread;               // so the gates overlap
-            const Gate gate{{0.3, 0.6, z0 + 50.0}, {0, 0, -1}, 50.0, 50.0 + length};
-            G g{std::int64_t(std::floor(z0 / bin)), std::int64_t(std::floor((z0 - length) / bin)),
-                0, rng.uniform() < 0.6};
-            g.stop = g.bottom;
-            if (g.fired) {
-                // Events fall on 7 depths into the gate, so bins gather several; those near
-                // its ends lie among the other gates' ends.
-                constexpr double kDepth[7] = {0.002, 0.006, 0.25, 0.5, 0.75, 0.994, 0.998};
-                const double z = z0 - length * kDepth[std::size_t(7.0 * rng.uniform())];
-                const GateEvent e{0.3, 0.6, z, 2, true};
-                g.stop = std::int64_t(std::floor(z / bin));
-                grid.add(gate, &e);
-            } else {
-                grid.add(gate, nullptr);
-            }
-            gates.push_back(g);
-        }
-        for (const std::uint32_t dwell : {0u, 150u}) {
-            const std::size_t n = dwell ? dwell : gates.size();
-            const auto pts = grid.finish(nullptr, dwell);
-            std::size_t bins_with_armed_gates = 0;
-            std::vector<std::int64_t> seen;
-            for (std::size_t i = 0; i < n; ++i)
-                if (gates[i].fired) seen.push_back(gates[i].stop);
-            std::sort(seen.begin(), seen.end());
-            seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-            for (const std::int64_t b : seen) {
-                std::int64_t events = 0, covering = 0, above = 0;
-                for (std::size_t i = 0; i < n; ++i) {
-                    const G& g = gates[i];
-                    events += g.fired && g.stop == b;
-                    above += g.fired && g.stop > b;
-                    covering += g.bottom <= b && b <= g.top;
+        for (const bool dwells : {false, true}) {
+            const double bin = 0.25;
+            CoincidenceGrid grid({1.0, bin, 1, 1.0 - 1e-9, 0, {}, 0, dwells});
+            struct G {
+                std::int64_t top, bottom, stop;
+                bool fired;
+            };
+            std::vector<G> gates;
+            core::PulseRng rng(42, static_cast<std::uint64_t>(spread), 0);
+            for (int k = 0; k < 400; ++k) {
+                // The gate opens here: the first half within a metre, the rest over the spread
+                // (counts by bin that turn into a list).
+                const double z0 = 1000.0 + (k < 200 ? 1.0 : spread) * rng.uniform();
+                const double length = 100.0 + spread;  // so the gates overlap
+                const Gate gate{{0.3, 0.6, z0 + 50.0}, {0, 0, -1}, 50.0, 50.0 + length};
+                G g{std::int64_t(std::floor(z0 / bin)),
+                    std::int64_t(std::floor((z0 - length) / bin)), 0, rng.uniform() < 0.6};
+                g.stop = g.bottom;
+                if (g.fired) {
+                    // Events fall on 7 depths into the gate, so bins gather several; those near
+                    // its ends lie among the other gates' ends.
+                    constexpr double kDepth[7] = {1e-6, 0.002, 0.25, 0.5, 0.75, 0.998, 1.0 - 1e-6};
+                    const double z = z0 - length * kDepth[std::size_t(7.0 * rng.uniform())];
+                    const GateEvent e{0.3, 0.6, z, 2, true};
+                    g.stop = std::int64_t(std::floor(z / bin));
+                    grid.add(gate, &e);
+                } else {
+                    grid.add(gate, nullptr);
                 }
-                const std::int64_t armed = std::max<std::int64_t>(covering - above, 0);
-                if (armed == 0) continue;
-                ++bins_with_armed_gates;
-                const auto p = std::find_if(pts.begin(), pts.end(), [&](const auto& q) {
-                    return std::int64_t(std::floor(q.z / bin)) == b;
-                });
-                ASSERT_NE(p, pts.end()) << "spread " << spread << " bin " << b;
-                EXPECT_EQ(p->events, std::uint32_t(events)) << "spread " << spread << " bin " << b;
-                EXPECT_EQ(p->gates, std::uint32_t(armed)) << "spread " << spread << " bin " << b;
-                EXPECT_NEAR(p->x, 0.3, 1e-6);
-                EXPECT_NEAR(p->y, 0.6, 1e-6);
+                gates.push_back(g);
             }
-            EXPECT_EQ(pts.size(), bins_with_armed_gates) << "spread " << spread;
-            EXPECT_GT(bins_with_armed_gates, 5u);
+            for (const std::uint32_t dwell : {0u, 150u}) {
+                if (dwell && !dwells) continue;
+                const std::size_t n = dwell ? dwell : gates.size();
+                const auto pts = grid.finish(nullptr, dwell);
+                std::size_t bins_with_armed_gates = 0;
+                std::vector<std::int64_t> seen;
+                for (std::size_t i = 0; i < n; ++i)
+                    if (gates[i].fired) seen.push_back(gates[i].stop);
+                std::sort(seen.begin(), seen.end());
+                seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+                for (const std::int64_t b : seen) {
+                    std::int64_t events = 0, covering = 0, above = 0;
+                    for (std::size_t i = 0; i < n; ++i) {
+                        const G& g = gates[i];
+                        events += g.fired && g.stop == b;
+                        above += g.fired && g.stop > b;
+                        covering += g.bottom <= b && b <= g.top;
+                    }
+                    const std::int64_t armed = std::max<std::int64_t>(covering - above, 0);
+                    if (armed == 0) continue;
+                    ++bins_with_armed_gates;
+                    const auto p = std::find_if(pts.begin(), pts.end(), [&](const auto& q) {
+                        return std::int64_t(std::floor(q.z / bin)) == b;
+                    });
+                    ASSERT_NE(p, pts.end()) << "spread " << spread << " bin " << b;
+                    EXPECT_EQ(p->events, std::uint32_t(events))
+                        << "spread " << spread << " bin " << b;
+                    EXPECT_EQ(p->gates, std::uint32_t(armed))
+                        << "spread " << spread << " bin " << b;
+                    EXPECT_NEAR(p->x, 0.3, 1e-6);
+                    EXPECT_NEAR(p->y, 0.6, 1e-6);
+                }
+                EXPECT_EQ(pts.size(), bins_with_armed_gates) << "spread " << spread;
+                EXPECT_GT(bins_with_armed_gates, 5u);
+            }
         }
     }
 }

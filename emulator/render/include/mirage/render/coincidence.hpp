@@ -35,6 +35,9 @@ struct CoincidenceParams {
     std::uint32_t gates_per_cell = 0;
     std::optional<CoincidenceWindow> window;  // none: every gate
     int threads = 0;  // finishing the cells, 0: hardware concurrency (the result does not change)
+    // Keep every gate in time order, so that finish() can take any dwell; otherwise a cell
+    // keeps only counts of its gates' bins (a dwell then comes from gates_per_cell alone).
+    bool dwells = false;
 };
 
 struct CoincidencePoint {
@@ -76,7 +79,7 @@ class CoincidenceGrid {
     // looking down. Gates outside the window are left out.
     void add(const Gate& gate, const GateEvent* first);
     // The points, each cell counting its first `gates_per_cell` gates (0: the params' own), so
-    // one grid answers several dwells.
+    // one grid answers several dwells (a grid made with `dwells`; Error otherwise).
     std::vector<CoincidencePoint> finish(CoincidenceStats* stats = nullptr,
                                          std::uint32_t gates_per_cell = 0) const;
     // Appends a grid of later gates (the same params): each of its columns after this one's.
@@ -88,18 +91,35 @@ class CoincidenceGrid {
     struct GateBins {
         std::int32_t top, bottom, stop;
     };
-    // A first event, compactly (docs/photon-counting.md §5): its gate's index in the column and
-    // its position as float offsets from the cell's corner and its bin's floor (exact to ~1e-7 m
-    // there, where a double of the whole coordinate costs three times the memory).
+    // A first event, compactly (docs/photon-counting.md §5): its gate's number in the column,
+    // its bin (its gate's stop), and its position as float offsets from the cell's corner and
+    // its bin's floor (exact to ~1e-7 m there, where a double of the whole coordinate costs
+    // three times the memory).
     struct ColumnEvent {
         std::uint32_t gate;
+        std::int32_t bin;
         float dx, dy, dz;
         std::uint8_t classification;
         bool signal;
     };
+    // Bins counted over the range they span while it is narrow, else listed.
+    struct Tally {
+        static constexpr std::size_t kWide = 4096;  // bins
+        std::int32_t lo = 0;
+        std::vector<std::uint32_t> counts;  // counts[k]: values lo + k
+        std::vector<std::int32_t> values;   // once the range is wide
+        void add(std::int32_t v);
+        void merge(const Tally& other);
+        void list();
+    };
     struct Column {
-        std::int64_t ix = 0, iy = 0;      // the cell
-        std::vector<GateBins> gates;      // in time order
+        std::int64_t ix = 0, iy = 0;  // the cell
+        std::uint32_t count = 0;      // gates
+        // With dwells: every gate in time order. Without: their top and bottom bins counted and
+        // the bins they were armed for summed.
+        std::vector<GateBins> gates;
+        Tally tops, bottoms;
+        std::uint64_t armed_bins = 0;
         std::vector<ColumnEvent> events;  // in time order (so by gate)
     };
     // Of column c, its first g gates and their m events.
@@ -114,6 +134,7 @@ class CoincidenceGrid {
     CoincidencePoint bin_point(const Column& c, std::int32_t b, std::uint32_t h,
                                std::uint32_t armed, std::span<const std::uint64_t> events) const;
     std::int32_t bin_of(double z) const;
+    bool keep_gates() const { return p_.dwells || p_.gates_per_cell > 0; }
 
     // The column add() used last: a frame's neighbouring pixels mostly share a cell. Never
     // carried over by a copy (it points into this grid's own map).
