@@ -93,8 +93,8 @@ class CoincidenceGrid {
     };
     // A first event, compactly (docs/photon-counting.md §5): its gate's number in the column,
     // its bin (its gate's stop), and its position as float offsets from the cell's corner and
-    // its bin's floor (exact to ~1e-7 m there, where a double of the whole coordinate costs
-    // three times the memory).
+    // its bin's floor (exact to ~1e-7 m there; 24 bytes where the whole point in doubles took
+    // 40).
     struct ColumnEvent {
         std::uint32_t gate;
         std::int32_t bin;
