@@ -307,7 +307,7 @@ void register_live(CLI::App& app) {
         wire::WireSetup w = wire::make_wire(
             wire_context(job), wo, [&](const wire::PacketView& p) { session.on_packet(p); }, o->to);
         out.anchor(job.options.start, t0 + nav.offset_ns().value_or(0) + delay.count());
-        const std::size_t window = pulses_per_packet(job, w.packets_per_second);
+        const std::size_t window = live_window_pulses(job, w.packets_per_second, delay);
         std::fprintf(
             stderr,
             "mirage live: first pose at gps:%.3f; pulse 0 at gps:%.3f; %zu pulses "

@@ -24,10 +24,13 @@ navpose::NavFrame live_frame(const Job& job, const std::vector<double>& origin,
     return navpose::NavFrame::from_georef(job.scene->georef);
 }
 
-std::size_t pulses_per_packet(const Job& job, double packets_per_second) {
+std::size_t live_window_pulses(const Job& job, double packets_per_second, core::Nanos delay) {
     const double pulses_per_s =
         double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
-    const auto n = static_cast<std::size_t>(std::llround(pulses_per_s / packets_per_second));
+    const double span_s = 1.0 / packets_per_second,
+                 delay_s = std::chrono::duration<double>(delay).count();
+    const double windows = delay_s > 0.0 ? std::max(1.0, std::ceil(span_s / (2.0 * delay_s))) : 1.0;
+    const auto n = static_cast<std::size_t>(std::llround(pulses_per_s * span_s / windows));
     return render::chunk_pulses(job.sensor, std::max<std::size_t>(1, n));
 }
 
@@ -74,7 +77,8 @@ LiveTotals stream_before_first_pose(Job& job, output::PacketOutput& out, navio::
         ctx, wo, [&](const wire::PacketView& p) { session.on_packet(p); }, to);
     out.anchor(job.options.start,
                job.options.start.time_since_epoch().count() + off + delay.count());
-    LiveTotals t = session.run(*w.packetizer, pulses_per_packet(job, w.packets_per_second), stop);
+    LiveTotals t =
+        session.run(*w.packetizer, live_window_pulses(job, w.packets_per_second, delay), stop);
     w.packetizer->finish();
     return t;
 }

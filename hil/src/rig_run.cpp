@@ -286,8 +286,10 @@ bool stream_rig_before_first_pose(RigPlan& plan, const RigRunOptions& o,
     run_all(
         runs, o,
         [&stop](RigRun& r) {
-            r.session->run(*r.input, pulses_per_packet(r.sensor->job, r.sensor->packets_per_second),
-                           stop);
+            r.session->run(
+                *r.input,
+                live_window_pulses(r.sensor->job, r.sensor->packets_per_second, kLivePipelineDelay),
+                stop);
             r.wire.packetizer->finish();
         },
         true);
@@ -465,8 +467,9 @@ void run_rig_live(RigPlan& plan, const RigRunOptions& o) {
     Published pub(o.view, runs, &nav, &poses);
     run_all(runs, o, [&stop](RigRun& r) {
         const Job& job = r.sensor->job;
-        r.live =
-            r.session->run(*r.input, pulses_per_packet(job, r.sensor->packets_per_second), stop);
+        r.live = r.session->run(
+            *r.input, live_window_pulses(job, r.sensor->packets_per_second, kLivePipelineDelay),
+            stop);
         r.wire.packetizer->finish();
     });
     nav.stop();
