@@ -27,11 +27,15 @@ navpose::NavFrame live_frame(const Job& job, const std::vector<double>& origin,
 std::size_t live_window_pulses(const Job& job, double packets_per_second, core::Nanos delay) {
     const double pulses_per_s =
         double(job.sensor.scan->pulse_count(std::chrono::seconds(10))) / 10.0;
+    const std::size_t group = std::max<std::uint32_t>(1, job.sensor.scan->group_size());
+    const auto packet = static_cast<std::size_t>(std::llround(pulses_per_s / packets_per_second));
+    const std::size_t groups = std::max<std::size_t>(1, packet / group);
     const double span_s = 1.0 / packets_per_second,
                  delay_s = std::chrono::duration<double>(delay).count();
-    const double windows = delay_s > 0.0 ? std::max(1.0, std::ceil(span_s / (2.0 * delay_s))) : 1.0;
-    const auto n = static_cast<std::size_t>(std::llround(pulses_per_s * span_s / windows));
-    return render::chunk_pulses(job.sensor, std::max<std::size_t>(1, n));
+    const double wanted = delay_s > 0.0 ? std::ceil(span_s / (2.0 * delay_s)) : 1.0;
+    std::size_t windows = static_cast<std::size_t>(std::clamp(wanted, 1.0, double(groups)));
+    while (groups % windows != 0) ++windows;  // so a packet's last pulse ends a window
+    return groups / windows * group;
 }
 
 std::optional<core::GpsTime> wait_first_pose(const navpose::PoseBuffer& poses,

@@ -43,10 +43,11 @@ inline constexpr double kFirstPoseSettleS = 1.0;
 // `origin` (lat, lon, h). `who` names the command in errors.
 navpose::NavFrame live_frame(const Job& job, const std::vector<double>& origin,
                              const std::string& who);
-// Pulses the live loop renders at a time (whole firing groups): a data packet's, split into the
-// fewest windows that each span at most twice the pipeline delay. A packet is due `delay` after
-// its last firing and its last window can only be rendered then; more windows wake the loop more
-// often beside the sending thread (docs/live-navigation.md §1).
+// Pulses the live loop renders at a time (whole firing groups): a data packet's, split evenly
+// (so a packet's last pulse ends a window) into the fewest windows that each span at most twice
+// the pipeline delay. A packet is due `delay` after its last firing and its last window can
+// only be rendered then; more windows wake the loop more often beside the sending thread
+// (docs/live-navigation.md §1).
 std::size_t live_window_pulses(const Job& job, double packets_per_second, core::Nanos delay);
 // No full pose arrived within the first-navigation timeout.
 class FirstPoseTimeout : public IoError {

@@ -147,6 +147,33 @@ TEST(LiveE2E, sbg_can_on_an_in_memory_bus) {
 // silence, a 100 m position jump, an epoch stamped 1 s back, a NaN latitude and every 50th message
 // corrupted. Live must go stale once (after its 50 ms extrapolation horizon) and resume, reject
 // and count every bad message, and never apply one: the points stay on the geometry.
+// The live loop renders a packet in windows that divide it (docs/live-navigation.md §1): the
+// fewest spanning at most twice the pipeline delay, more where the packet's firing groups do
+// not divide so. A window that straddled two packets would hold the first one back.
+TEST(LiveE2E, windows_divide_a_packet_and_span_at_most_twice_the_delay) {
+    TempDir tmp;
+    const std::string scene = tmp.file("yard.yaml"), traj = tmp.file("circle.csv");
+    { std::ofstream(scene) << kScene; }
+    write_trajectory(traj);
+    struct Want {
+        std::string sensor, delay_us;
+        int pulses;
+    };
+    // VLP-16: 384 pulses (24 groups of 16) per 1.327 ms packet; OS1-64 1024×10: 1 024 (16
+    // columns of 64) per 1.5625 ms; at 300 µs it needs 3 windows, which 16 columns do not
+    // divide: 4.
+    for (const Want& w : {Want{"vlp16", "250", 128}, Want{"vlp16", "1000", 384},
+                          Want{"vlp16", "100", 48}, Want{"os1-64-1024x10", "300", 256}}) {
+        const auto r = run_mirage("live --scene " + scene + " --nav sbg-can:memory:w --fake-ins " +
+                                  traj + " --sensor " + w.sensor + " --pipeline-delay-us " +
+                                  w.delay_us + " --duration 0.2 --no-status");
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(r.output, m, std::regex("([0-9]+) pulses per window")))
+            << r.output;
+        EXPECT_EQ(std::stoi(m[1].str()), w.pulses) << w.sensor << " at " << w.delay_us << " µs";
+    }
+}
+
 TEST(LiveE2E, faults_are_rejected_counted_and_never_applied) {
     const std::string out =
         run_case({"nmea", "pty:LINK", "nmea:LINK", 0.03,
