@@ -68,6 +68,11 @@ struct Bin {
     std::uint32_t h, armed;
 };
 
+// Whether values spanning `range` bins are cheaper counted over the range than sorted.
+inline bool narrow(std::uint64_t range, std::size_t values) {
+    return range <= 8 * std::uint64_t(values) + 256;
+}
+
 // How many of a column's values (its gates' top or bottom bins) are at least b, for many b: by
 // counts over the values' range when it is narrow (a column's gates open and close within a
 // few bins of each other), else by a sorted copy. O(values + range), or O(values log values).
@@ -84,11 +89,11 @@ class AtLeast {
             hi_ = std::max(hi_, x);
         }
         const std::uint64_t range = std::uint64_t(std::int64_t(hi_) - lo_) + 1;
-        dense_ = range <= 8 * std::uint64_t(n) + 256;
+        dense_ = narrow(range, n);
         if (dense_) {
             counts_.assign(range + 1, 0);
             for (std::size_t i = 0; i < n; ++i) counts_[std::size_t(v(i) - lo_)]++;
-            for (std::size_t k = range; k-- > 0;) counts_[k] += counts_[k + 1];
+            sum_down();
         } else {
             sorted_.resize(n);
             for (std::size_t i = 0; i < n; ++i) sorted_[i] = v(i);
@@ -105,10 +110,9 @@ class AtLeast {
         lo_ = lo;
         hi_ = lo + static_cast<std::int32_t>(counts.size() - 1);
         dense_ = true;
-        counts_.assign(counts.size() + 1, 0);
-        std::copy(counts.begin(), counts.end(), counts_.begin());
-        for (std::size_t k = counts.size(); k-- > 0;) counts_[k] += counts_[k + 1];
-        n_ = counts_[0];
+        counts_.assign(counts.begin(), counts.end());
+        counts_.push_back(0);
+        sum_down();
     }
     std::size_t from(std::int64_t b) const {
         if (n_ == 0 || b > hi_) return 0;
@@ -118,6 +122,11 @@ class AtLeast {
     }
 
   private:
+    // counts_[k] from the count at lo_ + k to the count at or above it.
+    void sum_down() {
+        for (std::size_t k = counts_.size() - 1; k-- > 0;) counts_[k] += counts_[k + 1];
+        n_ = counts_[0];
+    }
     std::size_t n_ = 0;
     std::int32_t lo_ = 0, hi_ = 0;
     bool dense_ = true;
@@ -334,7 +343,7 @@ std::int32_t CoincidenceGrid::sort_by_bin(const Dwell& d, Scratch& s) const {
     };
     const std::uint64_t range = std::uint64_t(std::int64_t(highest) - lowest) + 1;
     s.fired.resize(d.m);
-    if (range > 8 * std::uint64_t(d.m) + 256) {
+    if (!coincidence_detail::narrow(range, d.m)) {
         for (std::size_t j = 0; j < d.m; ++j) s.fired[j] = key(j);
         std::sort(s.fired.begin(), s.fired.end());
         return lowest;
