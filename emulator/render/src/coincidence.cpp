@@ -33,6 +33,34 @@ double poisson_tail(double mean, std::uint32_t k) {
 
 std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
 
+// A batch of gates' arithmetic over whole arrays: mid-gate x and y, floor(x / cell),
+// floor(y / cell), the floors of the top's and the bottom's height over the bin and (stop holding
+// the events' heights) the floor of that over the bin. GCC vectorises it with -fno-trapping-math
+// (given restrict parameters; restrict locals or one array of rows it would not); the same IEEE
+// operations as one gate at a time, so the same floors.
+void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, double* __restrict mx,
+                 double* __restrict my, double* __restrict cx, double* __restrict cy,
+                 double* __restrict top, double* __restrict bottom, double* __restrict stop) {
+    const double half = 0.5 * (l.r0 + l.r1), r0 = l.r0, r1 = l.r1;
+    const double *ox = l.ox.data(), *oy = l.oy.data(), *oz = l.oz.data();
+    const double *dx = l.dx.data(), *dy = l.dy.data(), *dz = l.dz.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        mx[i] = ox[i] + half * dx[i];
+        my[i] = oy[i] + half * dy[i];
+        cx[i] = std::floor(mx[i] / cell);
+        cy[i] = std::floor(my[i] / cell);
+        top[i] = std::floor((oz[i] + r0 * dz[i]) / bin);
+        bottom[i] = std::floor((oz[i] + r1 * dz[i]) / bin);
+        stop[i] = std::floor(stop[i] / bin);
+    }
+}
+
+// A cell key's first slot in a table of mask + 1 (a power of two): Fibonacci hashing, as the
+// keys of neighbouring cells differ in their low bits of x and of y.
+std::size_t slot_of(std::int64_t key, std::size_t mask) {
+    return static_cast<std::size_t>((std::uint64_t(key) * 0x9E3779B97F4A7C15ull) >> 32) & mask;
+}
+
 std::size_t thread_count(int threads) {
     return threads > 0 ? std::size_t(threads)
                        : std::size_t(std::max(1u, std::thread::hardware_concurrency()));
@@ -150,29 +178,48 @@ CoincidenceGrid::CoincidenceGrid(CoincidenceParams p) : p_(p) {
             "probability in (0, 1)");
 }
 
-std::int32_t CoincidenceGrid::bin_of(double z) const {
-    return static_cast<std::int32_t>(std::floor(z / p_.bin_m));
+void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
+    const GateLines one{{&gate.origin.x(), 1},
+                        {&gate.origin.y(), 1},
+                        {&gate.origin.z(), 1},
+                        {&gate.dir.x(), 1},
+                        {&gate.dir.y(), 1},
+                        {&gate.dir.z(), 1},
+                        gate.r0,
+                        gate.r1};
+    add(one, {&first, 1});
 }
 
-void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
-    if (!(gate.dir.z() < -kMinDownward))
-        throw ConfigError("coincidence: a gate looks " + std::to_string(gate.dir.z()) +
-                          " down (needs a line of sight within 60° of nadir)");
-    const Eigen::Vector3d mid = gate.origin + 0.5 * (gate.r0 + gate.r1) * gate.dir;
-    if (p_.window && !p_.window->contains(mid.x(), mid.y())) return;
-    const auto ix = static_cast<std::int64_t>(std::floor(mid.x() / p_.cell_m));
-    const auto iy = static_cast<std::int64_t>(std::floor(mid.y() / p_.cell_m));
+void CoincidenceGrid::add(const GateLines& l, std::span<const GateEvent* const> first) {
+    const std::size_t n = first.size();
+    for (std::size_t i = 0; i < n; ++i)
+        if (!(l.dz[i] < -kMinDownward))
+            throw ConfigError("coincidence: a gate looks " + std::to_string(l.dz[i]) +
+                              " down (needs a line of sight within 60° of nadir)");
+    Floors& f = floors_;
+    for (auto* v : {&f.mx, &f.my, &f.cx, &f.cy, &f.top, &f.bottom, &f.stop}) v->resize(n);
+    for (std::size_t i = 0; i < n; ++i) f.stop[i] = first[i] ? first[i]->z : 0.0;
+    floor_gates(n, l, p_.cell_m, p_.bin_m, f.mx.data(), f.my.data(), f.cx.data(), f.cy.data(),
+                f.top.data(), f.bottom.data(), f.stop.data());
+    for (std::size_t i = 0; i < n; ++i) add_one(i, first[i]);
+}
+
+// Gate i of the batch in floors_ into its column.
+void CoincidenceGrid::add_one(std::size_t i, const GateEvent* first) {
+    const Floors& f = floors_;
+    if (p_.window && !p_.window->contains(f.mx[i], f.my[i])) return;
+    const auto ix = static_cast<std::int64_t>(f.cx[i]);
+    const auto iy = static_cast<std::int64_t>(f.cy[i]);
     const std::int64_t key = cell_key(ix, iy);
     if (!last_.column || last_.key != key) {
         last_.key = key;
-        last_.column = &columns_[key];
-        last_.column->ix = ix;
-        last_.column->iy = iy;
+        last_.column = &column(ix, iy);
     }
     Column& c = *last_.column;
-    const std::int32_t top = bin_of(gate.origin.z() + gate.r0 * gate.dir.z());
-    const std::int32_t bottom = bin_of(gate.origin.z() + gate.r1 * gate.dir.z());
-    const std::int32_t stop = first ? std::clamp(bin_of(first->z), bottom, top) : bottom;
+    const auto top = static_cast<std::int32_t>(f.top[i]);
+    const auto bottom = static_cast<std::int32_t>(f.bottom[i]);
+    const std::int32_t stop =
+        first ? std::clamp(static_cast<std::int32_t>(f.stop[i]), bottom, top) : bottom;
     const std::uint32_t number = c.count++;
     if (first)  // offsets from the cell's corner and the bin's floor (ColumnEvent)
         c.events.push_back({number, stop, static_cast<float>(first->x - double(ix) * p_.cell_m),
@@ -188,7 +235,35 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
     c.armed_bins += static_cast<std::uint64_t>(std::int64_t(top) - stop + 1);
 }
 
-void CoincidenceGrid::Tally::add(std::int32_t v) {
+CoincidenceGrid::Column& CoincidenceGrid::column(std::int64_t ix, std::int64_t iy) {
+    const std::int64_t key = cell_key(ix, iy);
+    if (2 * (columns_.size() + 1) > slots_.size()) {  // at most half full
+        std::vector<Slot> old(std::max<std::size_t>(64, 2 * slots_.size()));
+        old.swap(slots_);
+        const std::size_t mask = slots_.size() - 1;
+        for (const Slot& sl : old) {
+            if (sl.index == kEmpty) continue;
+            std::size_t at = slot_of(sl.key, mask);
+            while (slots_[at].index != kEmpty) at = (at + 1) & mask;
+            slots_[at] = sl;
+        }
+    }
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t at = slot_of(key, mask);; at = (at + 1) & mask) {
+        Slot& sl = slots_[at];
+        if (sl.index == kEmpty) {
+            sl = {key, static_cast<std::uint32_t>(columns_.size())};
+            Column& c = columns_.emplace_back();
+            c.ix = ix;
+            c.iy = iy;
+            return c;
+        }
+        if (sl.key == key) return columns_[sl.index];
+    }
+}
+
+// A value outside the counted range (or any, once listed): widens the range or lists.
+void CoincidenceGrid::Tally::add_outside(std::int32_t v) {
     if (!values.empty()) {
         values.push_back(v);
         return;
@@ -240,7 +315,7 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
     // Cells in key order, so neither the points' order nor the noise's sum depends on threads.
     std::vector<std::pair<std::int64_t, const Column*>> cells;
     cells.reserve(columns_.size());
-    for (const auto& [key, c] : columns_) cells.emplace_back(key, &c);
+    for (const Column& c : columns_) cells.emplace_back(cell_key(c.ix, c.iy), &c);
     std::sort(cells.begin(), cells.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     const std::size_t parts =
@@ -279,8 +354,8 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
 
 void CoincidenceGrid::append(CoincidenceGrid&& later) {
     last_.column = nullptr;
-    for (auto& [key, from] : later.columns_) {
-        Column& c = columns_[key];
+    for (Column& from : later.columns_) {
+        Column& c = column(from.ix, from.iy);
         if (c.count == 0) {
             c = std::move(from);
             continue;
@@ -298,6 +373,7 @@ void CoincidenceGrid::append(CoincidenceGrid&& later) {
         }
     }
     later.columns_.clear();
+    later.slots_.clear();
     later.last_.column = nullptr;
 }
 
@@ -450,16 +526,17 @@ void add_gates(const Setup& setup, std::span<const FirstEvent> events, std::uint
                          [](const FirstEvent& e, std::uint64_t p) { return e.pulse < p; }) -
         events.begin());
     RayBatch g;
+    std::vector<const GateEvent*> fired;
     for (std::uint64_t first = lo; first < hi; first += batch) {
         builder.build_lines(
             first, static_cast<std::size_t>(std::min<std::uint64_t>(batch, hi - first)), g);
-        for (std::size_t i = 0; i < g.specs.size(); ++i) {
-            const std::uint64_t pulse = first + i;
-            while (next < events.size() && events[next].pulse < pulse) ++next;
-            const bool fired = next < events.size() && events[next].pulse == pulse;
-            grid.add({g.origin_of(i), g.direction_of(i), rx.min_range_m, rx.max_range_m},
-                     fired ? &events[next].event : nullptr);
-        }
+        fired.assign(g.specs.size(), nullptr);
+        for (; next < events.size() && events[next].pulse < first + fired.size(); ++next)
+            if (events[next].pulse >= first && !fired[events[next].pulse - first])
+                fired[events[next].pulse - first] = &events[next].event;
+        grid.add({g.origin[0], g.origin[1], g.origin[2], g.direction[0], g.direction[1],
+                  g.direction[2], rx.min_range_m, rx.max_range_m},
+                 fired);
     }
 }
 

@@ -214,6 +214,48 @@ TEST(Coincidence, armed_gates_and_events_match_a_direct_count) {
     }
 }
 
+// Gates over 48 × 48 cells of 0.5 m, taken in turn (so consecutive gates fall in different
+// cells), each cell with a surface of its own height (cell x − cell y, ± 20 m): every cell gives
+// one point, at its own height and inside itself, whatever order the cells were first met in and
+// whether the gates went into one grid or two appended ones.
+TEST(Coincidence, every_cell_keeps_its_own_gates) {
+    constexpr int kSide = 48;
+    constexpr double kCell = 0.5;
+    const auto height = [](int cx, int cy) { return 0.05 + 0.25 * double(cx - cy); };
+    const auto fill = [&](CoincidenceGrid& grid, int from, int to) {
+        for (int k = from; k < to; ++k) {
+            const int cell = (k * 7919) % (kSide * kSide);  // a scattered order, every cell
+            const int cx = cell % kSide - kSide / 2, cy = cell / kSide - kSide / 2;
+            const double x = (cx + 0.3) * kCell, y = (cy + 0.6) * kCell;
+            const Gate gate{{x, y, 100.0}, {0, 0, -1}, 50.0, 150.0};
+            const GateEvent e{x, y, height(cx, cy), 2, true};
+            grid.add(gate, k >= 5 * kSide * kSide ? nullptr : &e);  // a sixth round, none
+        }
+    };
+    const int gates = 6 * kSide * kSide;
+    for (const bool dwells : {false, true}) {
+        const CoincidenceParams p{kCell, kBin, 3, 1e-6, 0, {}, 0, dwells};
+        CoincidenceGrid one(p), two(p), later(p);
+        fill(one, 0, gates);
+        fill(two, 0, gates / 3);
+        fill(later, gates / 3, gates);
+        two.append(std::move(later));
+        for (CoincidenceGrid* grid : {&one, &two}) {
+            CoincidenceStats st;
+            const auto pts = grid->finish(&st);
+            EXPECT_EQ(st.cells, std::uint64_t(kSide * kSide));
+            ASSERT_EQ(pts.size(), std::size_t(kSide * kSide)) << "dwells " << dwells;
+            for (const auto& q : pts) {
+                const int cx = int(std::floor(q.x / kCell)), cy = int(std::floor(q.y / kCell));
+                EXPECT_NEAR(q.x, (cx + 0.3) * kCell, 1e-6);
+                EXPECT_NEAR(q.y, (cy + 0.6) * kCell, 1e-6);
+                EXPECT_NEAR(q.z, height(cx, cy), 1e-6) << "cell " << cx << ", " << cy;
+                EXPECT_EQ(q.events, 5u);
+            }
+        }
+    }
+}
+
 TEST(Coincidence, noise_alone_gives_no_point) {
     CoincidenceStats st;
     EXPECT_TRUE(collect(20000, {}, 0.002, 2, &st).empty());

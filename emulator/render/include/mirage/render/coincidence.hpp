@@ -8,9 +8,9 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "mirage/core/point.hpp"
@@ -59,6 +59,13 @@ struct Gate {
     double r0 = 0, r1 = 0;
 };
 
+// Gates in structure-of-arrays form: gate i is the line (ox, oy, oz)[i] + r·(dx, dy, dz)[i],
+// open for r in [r0, r1] (the receiver's range gate, the same for all).
+struct GateLines {
+    std::span<const double> ox, oy, oz, dx, dy, dz;
+    double r0 = 0, r1 = 0;
+};
+
 // A gate's first event (the only one Coates' correction counts): its position, class, truth.
 struct GateEvent {
     double x = 0, y = 0, z = 0;
@@ -78,6 +85,9 @@ class CoincidenceGrid {
     // A gate and its first event (null: none fired), in time order. ConfigError for a gate not
     // looking down. Gates outside the window are left out.
     void add(const Gate& gate, const GateEvent* first);
+    // Gates in time order, gate i with its first event first[i] (null: none), as add() would
+    // take them one by one; the batch's arithmetic runs over whole arrays (it vectorises).
+    void add(const GateLines& lines, std::span<const GateEvent* const> first);
     // The points, each cell counting its first `gates_per_cell` gates (0: the params' own), so
     // one grid answers several dwells (a grid made with `dwells`; Error otherwise).
     std::vector<CoincidencePoint> finish(CoincidenceStats* stats = nullptr,
@@ -108,7 +118,14 @@ class CoincidenceGrid {
         std::int32_t lo = 0;
         std::vector<std::uint32_t> counts;  // counts[k]: values lo + k
         std::vector<std::int32_t> values;   // once the range is wide
-        void add(std::int32_t v);
+        void add(std::int32_t v) {          // inline: a value inside the range is the common case
+            const auto k = static_cast<std::uint64_t>(std::int64_t(v) - lo);
+            if (k < counts.size())  // (counts are empty once listed)
+                ++counts[k];
+            else
+                add_outside(v);
+        }
+        void add_outside(std::int32_t v);
         void merge(const Tally& other);
         void list();
     };
@@ -133,7 +150,7 @@ class CoincidenceGrid {
                        double& noise) const;
     CoincidencePoint bin_point(const Column& c, std::int32_t b, std::uint32_t h,
                                std::uint32_t armed, std::span<const std::uint64_t> events) const;
-    std::int32_t bin_of(double z) const;
+    void add_one(std::size_t i, const GateEvent* first);
     bool keep_gates() const { return p_.dwells || p_.gates_per_cell > 0; }
 
     // The column add() used last: a frame's neighbouring pixels mostly share a cell. Never
@@ -149,8 +166,26 @@ class CoincidenceGrid {
         }
     };
 
+    // A batch's per-gate values, floored but not yet converted: mid-gate x and y, its cell, its
+    // top and bottom bins and its event's bin (add() fills them, add_one() reads them).
+    struct Floors {
+        std::vector<double> mx, my, cx, cy, top, bottom, stop;
+    };
+
+    // The column of cell (ix, iy), made if new. Columns live in a deque (stable addresses) found
+    // through a table of open addressing, a power of two in size: std::unordered_map's lookup
+    // takes the hash modulo a prime, an integer division per gate.
+    Column& column(std::int64_t ix, std::int64_t iy);
+    struct Slot {
+        std::int64_t key = 0;
+        std::uint32_t index = kEmpty;  // into columns_
+    };
+    static constexpr std::uint32_t kEmpty = ~0u;
+
     CoincidenceParams p_;
-    std::unordered_map<std::int64_t, Column> columns_;
+    Floors floors_;
+    std::deque<Column> columns_;
+    std::vector<Slot> slots_;
     LastColumn last_;
 };
 
