@@ -61,6 +61,10 @@ std::size_t slot_of(std::int64_t key, std::size_t mask) {
     return static_cast<std::size_t>((std::uint64_t(key) * 0x9E3779B97F4A7C15ull) >> 32) & mask;
 }
 
+// An offset in integer units of 2^-30 m (CoincidenceGrid::BinSum): exact for a float offset of
+// 8 mm or more, within 1e-9 m below.
+std::int64_t fixed(float offset) { return std::llround(double(offset) * 0x1p30); }
+
 std::size_t thread_count(int threads) {
     return threads > 0 ? std::size_t(threads)
                        : std::size_t(std::max(1u, std::thread::hardware_concurrency()));
@@ -94,6 +98,7 @@ namespace coincidence_detail {
 struct Bin {
     std::int32_t b;
     std::uint32_t h, armed;
+    std::uint32_t first, count;  // its sums in the scratch's list
 };
 
 // Whether values spanning `range` bins are cheaper counted over the range than sorted.
@@ -166,8 +171,7 @@ class AtLeast {
 
 struct CoincidenceGrid::Scratch {
     coincidence_detail::AtLeast tops, bottoms;
-    std::vector<std::uint64_t> fired;  // per event: (its bin − the lowest) << 32 | its index
-    std::vector<std::uint32_t> start;  // sort_by_bin's counts
+    std::vector<BinSum> sums;  // the dwell's, by bin (top first) and class
     std::vector<coincidence_detail::Bin> bins;
 };
 
@@ -221,11 +225,20 @@ void CoincidenceGrid::add_one(std::size_t i, const GateEvent* first) {
     const std::int32_t stop =
         first ? std::clamp(static_cast<std::int32_t>(f.stop[i]), bottom, top) : bottom;
     const std::uint32_t number = c.count++;
-    if (first)  // offsets from the cell's corner and the bin's floor (ColumnEvent)
-        c.events.push_back({number, stop, static_cast<float>(first->x - double(ix) * p_.cell_m),
+    if (first) {  // offsets from the cell's corner and the bin's floor (ColumnEvent)
+        const ColumnEvent e{number,
+                            stop,
+                            static_cast<float>(first->x - double(ix) * p_.cell_m),
                             static_cast<float>(first->y - double(iy) * p_.cell_m),
                             static_cast<float>(first->z - double(stop) * p_.bin_m),
-                            first->classification, first->signal});
+                            first->classification,
+                            first->signal};
+        ++c.fired;
+        if (keep_gates())
+            c.events.push_back(e);
+        else
+            c.sums.add(sum_of(e));
+    }
     if (keep_gates()) {
         c.gates.push_back({top, bottom, stop});
         return;
@@ -259,6 +272,36 @@ CoincidenceGrid::Column& CoincidenceGrid::column(std::int64_t ix, std::int64_t i
             return c;
         }
         if (sl.key == key) return columns_[sl.index];
+    }
+}
+
+CoincidenceGrid::BinSum CoincidenceGrid::sum_of(const ColumnEvent& e) {
+    return {e.bin, e.classification, 1, e.signal ? 1u : 0u, fixed(e.dx), fixed(e.dy), fixed(e.dz)};
+}
+
+void CoincidenceGrid::BinSums::add(const BinSum& e) {
+    if (2 * (used + 1) > slots.size()) {  // at most half full
+        std::vector<BinSum> old(std::max<std::size_t>(16, 2 * slots.size()));
+        old.swap(slots);
+        used = 0;
+        for (const BinSum& o : old)
+            if (o.events) add(o);
+    }
+    const std::size_t mask = slots.size() - 1;
+    const auto key = (std::int64_t(std::uint32_t(e.bin)) << 8) | e.classification;
+    for (std::size_t at = slot_of(key, mask);; at = (at + 1) & mask) {
+        BinSum& sl = slots[at];
+        if (sl.events == 0) {
+            sl = e;
+            ++used;
+            return;
+        }
+        if (sl.bin == e.bin && sl.classification == e.classification) {
+            sl.events += e.events;
+            sl.signal += e.signal;
+            sl.x += e.x, sl.y += e.y, sl.z += e.z;
+            return;
+        }
     }
 }
 
@@ -328,10 +371,14 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
         for (std::size_t i = cells.size() * t / parts; i < cells.size() * (t + 1) / parts; ++i) {
             const Column& c = *cells[i].second;
             const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.count) : c.count;
-            const auto m = static_cast<std::size_t>(
-                std::lower_bound(c.events.begin(), c.events.end(), g,
-                                 [](const ColumnEvent& e, std::size_t n) { return e.gate < n; }) -
-                c.events.begin());
+            const auto m = keep_gates()
+                               ? static_cast<std::size_t>(
+                                     std::lower_bound(c.events.begin(), c.events.end(), g,
+                                                      [](const ColumnEvent& e, std::size_t n) {
+                                                          return e.gate < n;
+                                                      }) -
+                                     c.events.begin())
+                               : std::size_t(c.fired);
             finish_column({c, g, m}, scratch, out[t], noise[i]);
             gates[t] += g;
             events[t] += m;
@@ -366,6 +413,9 @@ void CoincidenceGrid::append(CoincidenceGrid&& later) {
         c.tops.merge(from.tops);
         c.bottoms.merge(from.bottoms);
         c.armed_bins += from.armed_bins;
+        c.fired += from.fired;
+        for (const BinSum& e : from.sums.slots)
+            if (e.events) c.sums.add(e);
         c.events.reserve(c.events.size() + from.events.size());
         for (ColumnEvent e : from.events) {
             e.gate += offset;
@@ -382,53 +432,58 @@ namespace {
 using coincidence_detail::AtLeast;
 using coincidence_detail::Bin;
 
-// The distinct bins of a column's events (sorted: bin − lowest in the high word), top first:
-// gates covering b, less those that fired above it, are armed at b.
-void event_bins(std::int32_t lowest, std::span<const std::uint64_t> sorted, const AtLeast& tops,
-                const AtLeast& bottoms, std::vector<Bin>& bins) {
+// The distinct bins of a column's sums (by bin, top first), with their events and the gates armed
+// there: gates covering b, less those that fired above it.
+template <class Sums>
+void bins_of(const Sums& sums, const AtLeast& tops, const AtLeast& bottoms,
+             std::vector<Bin>& bins) {
     bins.clear();
-    for (std::size_t hi = sorted.size(); hi > 0;) {
-        const std::uint64_t key = sorted[hi - 1] >> 32;
-        std::size_t lo = hi - 1;
-        while (lo > 0 && (sorted[lo - 1] >> 32) == key) --lo;
-        const std::int32_t b = lowest + static_cast<std::int32_t>(key);
+    std::size_t above = 0;
+    for (std::size_t first = 0; first < sums.size();) {
+        const std::int32_t b = sums[first].bin;
+        std::size_t end = first;
+        std::uint32_t h = 0;
+        for (; end < sums.size() && sums[end].bin == b; ++end) h += sums[end].events;
         const auto covering = static_cast<std::ptrdiff_t>(tops.from(b)) -
                               static_cast<std::ptrdiff_t>(bottoms.from(std::int64_t(b) + 1));
-        const auto above = static_cast<std::ptrdiff_t>(sorted.size() - hi);
-        bins.push_back({b, static_cast<std::uint32_t>(hi - lo),
-                        static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(covering - above, 0))});
-        hi = lo;
+        const auto armed = std::max<std::ptrdiff_t>(covering - std::ptrdiff_t(above), 0);
+        bins.push_back({b, h, static_cast<std::uint32_t>(armed), static_cast<std::uint32_t>(first),
+                        static_cast<std::uint32_t>(end - first)});
+        above += h;
+        first = end;
     }
 }
 
 }  // namespace
 
-// The dwell's events by bin and, within one, by time, into s.fired (the bin less the lowest in
-// the high word, the event in the low): counted out when the bins span a narrow range (a column's
-// events, noise included, fall within its gates), else sorted. Returns the lowest bin.
-std::int32_t CoincidenceGrid::sort_by_bin(const Dwell& d, Scratch& s) const {
-    const Column& c = d.c;
-    const auto bin = [&](std::size_t j) { return c.events[j].bin; };
-    std::int32_t lowest = bin(0), highest = lowest;
-    for (std::size_t j = 1; j < d.m; ++j) {
-        lowest = std::min(lowest, bin(j));
-        highest = std::max(highest, bin(j));
+// The dwell's first events summed by bin and class into s.sums, bins top first and classes in
+// order: a column's sums as they are, or (with dwells) its first m events summed.
+void CoincidenceGrid::sums_by_bin(const Dwell& d, Scratch& s) const {
+    s.sums.clear();
+    if (keep_gates()) {
+        for (std::size_t j = 0; j < d.m; ++j) s.sums.push_back(sum_of(d.c.events[j]));
+    } else {
+        for (const BinSum& e : d.c.sums.slots)
+            if (e.events) s.sums.push_back(e);
     }
-    const auto key = [&](std::size_t j) {
-        return (std::uint64_t(std::int64_t(bin(j)) - lowest) << 32) | j;
-    };
-    const std::uint64_t range = std::uint64_t(std::int64_t(highest) - lowest) + 1;
-    s.fired.resize(d.m);
-    if (!coincidence_detail::narrow(range, d.m)) {
-        for (std::size_t j = 0; j < d.m; ++j) s.fired[j] = key(j);
-        std::sort(s.fired.begin(), s.fired.end());
-        return lowest;
+    std::sort(s.sums.begin(), s.sums.end(), [](const BinSum& a, const BinSum& b) {
+        return a.bin != b.bin ? a.bin > b.bin : a.classification < b.classification;
+    });
+    if (!keep_gates()) return;
+    std::size_t kept = 0;  // one sum per bin and class
+    for (std::size_t j = 0; j < s.sums.size(); ++j) {
+        const BinSum e = s.sums[j];
+        if (kept == 0 || s.sums[kept - 1].bin != e.bin ||
+            s.sums[kept - 1].classification != e.classification) {
+            s.sums[kept++] = e;
+            continue;
+        }
+        BinSum& into = s.sums[kept - 1];
+        into.events += e.events;
+        into.signal += e.signal;
+        into.x += e.x, into.y += e.y, into.z += e.z;
     }
-    s.start.assign(range + 1, 0);  // start[k]: events in bins below lowest + k
-    for (std::size_t j = 0; j < d.m; ++j) s.start[std::size_t(bin(j) - lowest) + 1]++;
-    for (std::size_t k = 0; k < range; ++k) s.start[k + 1] += s.start[k];
-    for (std::size_t j = 0; j < d.m; ++j) s.fired[s.start[std::size_t(bin(j) - lowest)]++] = key(j);
-    return lowest;
+    s.sums.resize(kept);
 }
 
 // Per event bin b: n̂_b = −ln(1 − h_b/A_b) over its armed gates A_b. The noise per gate-bin is the
@@ -449,8 +504,8 @@ void CoincidenceGrid::finish_column(const Dwell& d, Scratch& s, std::vector<Coin
         s.tops.build(c.tops.lo, c.tops.counts, c.tops.values);
         s.bottoms.build(c.bottoms.lo, c.bottoms.counts, c.bottoms.values);
     }
-    const std::int32_t lowest = sort_by_bin(d, s);
-    event_bins(lowest, s.fired, s.tops, s.bottoms, s.bins);
+    sums_by_bin(d, s);
+    bins_of(s.sums, s.tops, s.bottoms, s.bins);
     const auto stands_out = [&](const Bin& x, double nu) {
         return x.h >= p_.min_events && poisson_tail(nu * x.armed, x.h) < p_.false_alarm;
     };
@@ -461,39 +516,30 @@ void CoincidenceGrid::finish_column(const Dwell& d, Scratch& s, std::vector<Coin
             if (stands_out(x, noise)) h_rest -= x.h, a_rest -= x.armed;
         noise = a_rest > 0.0 ? std::max(0.0, h_rest) / a_rest : 0.0;
     }
-    // The bins come top first: bin x's events end where the events of the bins above begin.
-    std::size_t end = d.m;
-    for (const Bin& x : s.bins) {
-        const std::size_t begin = end - x.h;
+    for (const Bin& x : s.bins)
         if (stands_out(x, noise) && x.armed > 0)
-            out.push_back(bin_point(c, x.b, x.h, x.armed, {s.fired.data() + begin, x.h}));
-        end = begin;
-    }
+            out.push_back(bin_point(c, x.b, x.armed, {s.sums.data() + x.first, x.count}));
 }
 
-// A standing-out bin's point: its events' mean position, most frequent class and truth share.
-CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::int32_t b, std::uint32_t h,
-                                            std::uint32_t armed,
-                                            std::span<const std::uint64_t> events) const {
+// A standing-out bin's point from its sums (classes in order): its events' mean position, most
+// frequent class (the lower of a tie) and truth share.
+CoincidencePoint CoincidenceGrid::bin_point(const Column& c, std::int32_t b, std::uint32_t armed,
+                                            std::span<const BinSum> sums) const {
     CoincidencePoint pt;
+    std::uint32_t h = 0, signal = 0, most = 0;
+    std::int64_t x = 0, y = 0, z = 0;
+    for (const BinSum& e : sums) {
+        h += e.events, signal += e.signal;
+        x += e.x, y += e.y, z += e.z;
+        if (e.events > most) most = e.events, pt.classification = e.classification;
+    }
     pt.events = h;
     pt.gates = armed;
     pt.expected = h >= armed ? INFINITY : -std::log1p(-double(h) / double(armed));
-    std::uint32_t by_class[256] = {};
-    std::uint32_t signal = 0;
-    double dx = 0, dy = 0, dz = 0;
-    for (const std::uint64_t key : events) {
-        const ColumnEvent& e = c.events[key & 0xFFFFFFFFu];
-        dx += e.dx, dy += e.dy, dz += e.dz;
-        by_class[e.classification]++;
-        signal += e.signal;
-    }
     const double n = double(h);
-    pt.x = double(c.ix) * p_.cell_m + dx / n;
-    pt.y = double(c.iy) * p_.cell_m + dy / n;
-    pt.z = double(b) * p_.bin_m + dz / n;
-    pt.classification =
-        static_cast<std::uint8_t>(std::max_element(by_class, by_class + 256) - by_class);
+    pt.x = double(c.ix) * p_.cell_m + double(x) * 0x1p-30 / n;
+    pt.y = double(c.iy) * p_.cell_m + double(y) * 0x1p-30 / n;
+    pt.z = double(b) * p_.bin_m + double(z) * 0x1p-30 / n;
     pt.signal_share = double(signal) / n;
     return pt;
 }

@@ -256,6 +256,59 @@ TEST(Coincidence, every_cell_keeps_its_own_gates) {
     }
 }
 
+// One bin's point from events of three classes at known places: the mean of their positions, the
+// most frequent class (3 and 5 tie: the lower), the share flagged signal; the same to the last
+// bit whether the grid keeps every gate or sums, and whether it was filled whole or in two parts.
+TEST(Coincidence, a_point_is_the_mean_of_its_events_and_their_most_frequent_class) {
+    struct E {
+        double x, y, z;
+        std::uint8_t cls;
+        bool signal;
+    };
+    const E events[] = {{0.11, 0.42, 40.02, 5, true},
+                        {0.37, 0.05, 40.13, 3, true},
+                        {0.29, 0.33, 40.07, 1, false},
+                        {0.02, 0.48, 40.11, 5, false},
+                        {0.45, 0.21, 40.01, 3, true}};
+    const auto fill = [&](CoincidenceGrid& grid, int from, int to) {
+        for (int k = from; k < to; ++k) {
+            const Gate gate{{0.25, 0.25, kTop + 1000.0}, {0, 0, -1}, 1000.0, 1000.0 + kBins * kBin};
+            const E& e = events[k % 5];
+            const GateEvent ev{e.x, e.y, e.z, e.cls, e.signal};
+            grid.add(gate, k < 10 ? &ev : nullptr);  // each event twice, then 30 empty gates
+        }
+    };
+    std::vector<CoincidencePoint> seen;
+    for (const bool dwells : {false, true}) {
+        const CoincidenceParams p{1.0, kBin, 3, 1e-6, 0, {}, 0, dwells};
+        CoincidenceGrid whole(p), part(p), later(p);
+        fill(whole, 0, 40);
+        fill(part, 0, 3);
+        fill(later, 3, 40);
+        part.append(std::move(later));
+        for (CoincidenceGrid* grid : {&whole, &part}) {
+            const auto pts = grid->finish();
+            ASSERT_EQ(pts.size(), 1u);
+            seen.push_back(pts[0]);
+        }
+    }
+    const CoincidencePoint& q = seen[0];
+    EXPECT_NEAR(q.x, (0.11 + 0.37 + 0.29 + 0.02 + 0.45) / 5, 1e-7);
+    EXPECT_NEAR(q.y, (0.42 + 0.05 + 0.33 + 0.48 + 0.21) / 5, 1e-7);
+    EXPECT_NEAR(q.z, (40.02 + 40.13 + 40.07 + 40.11 + 40.01) / 5, 1e-7);
+    EXPECT_EQ(q.events, 10u);
+    EXPECT_EQ(q.classification, 3);
+    EXPECT_DOUBLE_EQ(q.signal_share, 0.6);
+    for (const CoincidencePoint& o : seen) {
+        EXPECT_EQ(o.x, q.x);
+        EXPECT_EQ(o.y, q.y);
+        EXPECT_EQ(o.z, q.z);
+        EXPECT_EQ(o.expected, q.expected);
+        EXPECT_EQ(o.classification, q.classification);
+        EXPECT_EQ(o.signal_share, q.signal_share);
+    }
+}
+
 TEST(Coincidence, noise_alone_gives_no_point) {
     CoincidenceStats st;
     EXPECT_TRUE(collect(20000, {}, 0.002, 2, &st).empty());

@@ -112,6 +112,22 @@ class CoincidenceGrid {
         std::uint8_t classification;
         bool signal;
     };
+    // A column's first events of one bin and one class, summed: their count, how many were
+    // signal, and their offsets (ColumnEvent's) in integer units of 2^-30 m, so that sums are
+    // exact and the same in any order (any split between threads).
+    struct BinSum {
+        std::int32_t bin = 0;
+        std::uint8_t classification = 0;
+        std::uint32_t events = 0, signal = 0;  // events 0: an empty slot of BinSums
+        std::int64_t x = 0, y = 0, z = 0;
+    };
+    // BinSum by bin and class, in a table of open addressing (at most half full): a column has
+    // a few bins of surfaces and, at night, a few of noise; by day hundreds.
+    struct BinSums {
+        std::vector<BinSum> slots;
+        std::size_t used = 0;
+        void add(const BinSum& e);
+    };
     // Bins counted over the range they span while it is narrow, else listed.
     struct Tally {
         static constexpr std::size_t kWide = 4096;  // bins
@@ -137,7 +153,9 @@ class CoincidenceGrid {
         std::vector<GateBins> gates;
         Tally tops, bottoms;
         std::uint64_t armed_bins = 0;
-        std::vector<ColumnEvent> events;  // in time order (so by gate)
+        std::uint32_t fired = 0;          // gates with a first event
+        std::vector<ColumnEvent> events;  // with dwells: in time order (so by gate)
+        BinSums sums;                     // without: their sums
     };
     // Of column c, its first g gates and their m events.
     struct Dwell {
@@ -145,11 +163,12 @@ class CoincidenceGrid {
         std::size_t g, m;
     };
     struct Scratch;  // a thread's buffers, reused from column to column
-    std::int32_t sort_by_bin(const Dwell& d, Scratch& s) const;
+    void sums_by_bin(const Dwell& d, Scratch& s) const;
+    static BinSum sum_of(const ColumnEvent& e);
     void finish_column(const Dwell& d, Scratch& s, std::vector<CoincidencePoint>& out,
                        double& noise) const;
-    CoincidencePoint bin_point(const Column& c, std::int32_t b, std::uint32_t h,
-                               std::uint32_t armed, std::span<const std::uint64_t> events) const;
+    CoincidencePoint bin_point(const Column& c, std::int32_t b, std::uint32_t armed,
+                               std::span<const BinSum> sums) const;
     void add_one(std::size_t i, const GateEvent* first);
     bool keep_gates() const { return p_.dwells || p_.gates_per_cell > 0; }
 
