@@ -61,6 +61,26 @@ std::size_t slot_of(std::int64_t key, std::size_t mask) {
     return static_cast<std::size_t>((std::uint64_t(key) * 0x9E3779B97F4A7C15ull) >> 32) & mask;
 }
 
+// Before any gate of a batch is added: its lines cover every gate, and each gate looks down and
+// is finite, its event too (a cell or a bin from a NaN would be undefined).
+void check_gates(const GateLines& l, std::span<const GateEvent* const> first) {
+    const std::size_t n = first.size();
+    for (const auto* line : {&l.ox, &l.oy, &l.oz, &l.dx, &l.dy, &l.dz})
+        if (line->size() < n)
+            throw Error("coincidence: lines for " + std::to_string(line->size()) + " of " +
+                        std::to_string(n) + " gates");
+    const auto finite = [](auto... v) { return (std::isfinite(v) && ...); };
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!(l.dz[i] < -kMinDownward))
+            throw ConfigError("coincidence: a gate looks " + std::to_string(l.dz[i]) +
+                              " down (needs a line of sight within 60° of nadir)");
+        const GateEvent* e = first[i];
+        if (!finite(l.ox[i], l.oy[i], l.oz[i], l.dx[i], l.dy[i], l.r0, l.r1) ||
+            (e && !finite(e->x, e->y, e->z)))
+            throw ConfigError("coincidence: a gate or its event is not finite");
+    }
+}
+
 // An offset in integer units of 2^-30 m (CoincidenceGrid::BinSum): exact for a float offset of
 // 8 mm or more, within 1e-9 m below.
 std::int64_t fixed(float offset) { return std::llround(double(offset) * 0x1p30); }
@@ -171,6 +191,7 @@ class AtLeast {
 
 struct CoincidenceGrid::Scratch {
     coincidence_detail::AtLeast tops, bottoms;
+    BinSums table;             // a dwell's events summed (keeping gates)
     std::vector<BinSum> sums;  // the dwell's, by bin (top first) and class
     std::vector<coincidence_detail::Bin> bins;
 };
@@ -196,10 +217,7 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
 
 void CoincidenceGrid::add(const GateLines& l, std::span<const GateEvent* const> first) {
     const std::size_t n = first.size();
-    for (std::size_t i = 0; i < n; ++i)
-        if (!(l.dz[i] < -kMinDownward))
-            throw ConfigError("coincidence: a gate looks " + std::to_string(l.dz[i]) +
-                              " down (needs a line of sight within 60° of nadir)");
+    check_gates(l, first);
     Floors& f = floors_;
     for (auto* v : {&f.mx, &f.my, &f.cx, &f.cy, &f.top, &f.bottom, &f.stop}) v->resize(n);
     for (std::size_t i = 0; i < n; ++i) f.stop[i] = first[i] ? first[i]->z : 0.0;
@@ -265,8 +283,8 @@ CoincidenceGrid::Column& CoincidenceGrid::column(std::int64_t ix, std::int64_t i
     for (std::size_t at = slot_of(key, mask);; at = (at + 1) & mask) {
         Slot& sl = slots_[at];
         if (sl.index == kEmpty) {
-            sl = {key, static_cast<std::uint32_t>(columns_.size())};
-            Column& c = columns_.emplace_back();
+            Column& c = columns_.emplace_back();  // before the slot names it (it may throw)
+            sl = {key, static_cast<std::uint32_t>(columns_.size() - 1)};
             c.ix = ix;
             c.iy = iy;
             return c;
@@ -281,7 +299,7 @@ CoincidenceGrid::BinSum CoincidenceGrid::sum_of(const ColumnEvent& e) {
 
 void CoincidenceGrid::BinSums::add(const BinSum& e) {
     if (2 * (used + 1) > slots.size()) {  // at most half full
-        std::vector<BinSum> old(std::max<std::size_t>(16, 2 * slots.size()));
+        std::vector<BinSum> old(std::max<std::size_t>(8, 2 * slots.size()));
         old.swap(slots);
         used = 0;
         for (const BinSum& o : old)
@@ -457,33 +475,21 @@ void bins_of(const Sums& sums, const AtLeast& tops, const AtLeast& bottoms,
 }  // namespace
 
 // The dwell's first events summed by bin and class into s.sums, bins top first and classes in
-// order: a column's sums as they are, or (with dwells) its first m events summed.
+// order: a column's sums, or (keeping gates) its first m events summed the same way.
 void CoincidenceGrid::sums_by_bin(const Dwell& d, Scratch& s) const {
-    s.sums.clear();
+    const BinSums* sums = &d.c.sums;
     if (keep_gates()) {
-        for (std::size_t j = 0; j < d.m; ++j) s.sums.push_back(sum_of(d.c.events[j]));
-    } else {
-        for (const BinSum& e : d.c.sums.slots)
-            if (e.events) s.sums.push_back(e);
+        s.table.slots.clear();
+        s.table.used = 0;
+        for (std::size_t j = 0; j < d.m; ++j) s.table.add(sum_of(d.c.events[j]));
+        sums = &s.table;
     }
+    s.sums.clear();
+    for (const BinSum& e : sums->slots)
+        if (e.events) s.sums.push_back(e);
     std::sort(s.sums.begin(), s.sums.end(), [](const BinSum& a, const BinSum& b) {
         return a.bin != b.bin ? a.bin > b.bin : a.classification < b.classification;
     });
-    if (!keep_gates()) return;
-    std::size_t kept = 0;  // one sum per bin and class
-    for (std::size_t j = 0; j < s.sums.size(); ++j) {
-        const BinSum e = s.sums[j];
-        if (kept == 0 || s.sums[kept - 1].bin != e.bin ||
-            s.sums[kept - 1].classification != e.classification) {
-            s.sums[kept++] = e;
-            continue;
-        }
-        BinSum& into = s.sums[kept - 1];
-        into.events += e.events;
-        into.signal += e.signal;
-        into.x += e.x, into.y += e.y, into.z += e.z;
-    }
-    s.sums.resize(kept);
 }
 
 // Per event bin b: n̂_b = −ln(1 − h_b/A_b) over its armed gates A_b. The noise per gate-bin is the

@@ -35,8 +35,9 @@ struct CoincidenceParams {
     std::uint32_t gates_per_cell = 0;
     std::optional<CoincidenceWindow> window;  // none: every gate
     int threads = 0;  // finishing the cells, 0: hardware concurrency (the result does not change)
-    // Keep every gate in time order, so that finish() can take any dwell; otherwise a cell
-    // keeps only counts of its gates' bins (a dwell then comes from gates_per_cell alone).
+    // Keep every gate and event in time order, so that finish() can take any dwell; otherwise a
+    // cell keeps counts of its gates' bins and sums of its events by bin and class (a dwell then
+    // comes from gates_per_cell alone; docs/photon-counting.md §5).
     bool dwells = false;
 };
 
@@ -83,10 +84,12 @@ class CoincidenceGrid {
   public:
     explicit CoincidenceGrid(CoincidenceParams p);
     // A gate and its first event (null: none fired), in time order. ConfigError for a gate not
-    // looking down. Gates outside the window are left out.
+    // looking down or not finite (its event included). Gates outside the window are left out.
     void add(const Gate& gate, const GateEvent* first);
     // Gates in time order, gate i with its first event first[i] (null: none), as add() would
-    // take them one by one; the batch's arithmetic runs over whole arrays (it vectorises).
+    // take them one by one, except that a bad gate rejects the whole batch (before any is
+    // added); the batch's arithmetic runs over whole arrays (it vectorises). Error when a span
+    // of `lines` is shorter than `first`.
     void add(const GateLines& lines, std::span<const GateEvent* const> first);
     // The points, each cell counting its first `gates_per_cell` gates (0: the params' own), so
     // one grid answers several dwells (a grid made with `dwells`; Error otherwise).
@@ -114,7 +117,8 @@ class CoincidenceGrid {
     };
     // A column's first events of one bin and one class, summed: their count, how many were
     // signal, and their offsets (ColumnEvent's) in integer units of 2^-30 m, so that sums are
-    // exact and the same in any order (any split between threads).
+    // exact and the same in any order, on any split between threads (docs/photon-counting.md
+    // §5).
     struct BinSum {
         std::int32_t bin = 0;
         std::uint8_t classification = 0;
@@ -148,14 +152,14 @@ class CoincidenceGrid {
     struct Column {
         std::int64_t ix = 0, iy = 0;  // the cell
         std::uint32_t count = 0;      // gates
-        // With dwells: every gate in time order. Without: their top and bottom bins counted and
-        // the bins they were armed for summed.
+        // Keeping gates (keep_gates()): every gate in time order. Otherwise: their top and
+        // bottom bins counted and the bins they were armed for summed.
         std::vector<GateBins> gates;
         Tally tops, bottoms;
         std::uint64_t armed_bins = 0;
         std::uint32_t fired = 0;          // gates with a first event
-        std::vector<ColumnEvent> events;  // with dwells: in time order (so by gate)
-        BinSums sums;                     // without: their sums
+        std::vector<ColumnEvent> events;  // keeping gates: in time order (so by gate)
+        BinSums sums;                     // otherwise: their sums
     };
     // Of column c, its first g gates and their m events.
     struct Dwell {
@@ -173,14 +177,20 @@ class CoincidenceGrid {
     bool keep_gates() const { return p_.dwells || p_.gates_per_cell > 0; }
 
     // The column add() used last: a frame's neighbouring pixels mostly share a cell. Never
-    // carried over by a copy (it points into this grid's own map).
+    // carried over by a copy or a move (it points into this grid's own columns; a moved-from
+    // grid forgets it too).
     struct LastColumn {
         std::int64_t key = 0;
         Column* column = nullptr;
         LastColumn() = default;
         LastColumn(const LastColumn&) {}
+        LastColumn(LastColumn&& o) noexcept { o.column = nullptr; }
         LastColumn& operator=(const LastColumn&) {
             column = nullptr;
+            return *this;
+        }
+        LastColumn& operator=(LastColumn&& o) noexcept {
+            column = o.column = nullptr;
             return *this;
         }
     };
