@@ -40,7 +40,8 @@ std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (i
 // operations as one gate at a time, so the same floors.
 void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, double* __restrict mx,
                  double* __restrict my, double* __restrict cx, double* __restrict cy,
-                 double* __restrict top, double* __restrict bottom, double* __restrict stop) {
+                 double* __restrict top, double* __restrict bottom, double* __restrict stop,
+                 double* __restrict qx, double* __restrict qy, double* __restrict qz) {
     const double half = 0.5 * (l.r0 + l.r1), r0 = l.r0, r1 = l.r1;
     const double *ox = l.ox.data(), *oy = l.oy.data(), *oz = l.oz.data();
     const double *dx = l.dx.data(), *dy = l.dy.data(), *dz = l.dz.data();
@@ -51,7 +52,12 @@ void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, dou
         cy[i] = std::floor(my[i] / cell);
         top[i] = std::floor((oz[i] + r0 * dz[i]) / bin);
         bottom[i] = std::floor((oz[i] + r1 * dz[i]) / bin);
-        stop[i] = std::floor(stop[i] / bin);
+        const double ez = stop[i], s = std::floor(ez / bin);
+        stop[i] = s < bottom[i] ? bottom[i] : s > top[i] ? top[i] : s;
+        // The event's offsets as fixed() makes them (qx, qy in: its x and y).
+        qx[i] = std::nearbyint(double(static_cast<float>(qx[i] - cx[i] * cell)) * 0x1p30);
+        qy[i] = std::nearbyint(double(static_cast<float>(qy[i] - cy[i] * cell)) * 0x1p30);
+        qz[i] = std::nearbyint(double(static_cast<float>(ez - stop[i] * bin)) * 0x1p30);
     }
 }
 
@@ -61,29 +67,36 @@ std::size_t slot_of(std::int64_t key, std::size_t mask) {
     return static_cast<std::size_t>((std::uint64_t(key) * 0x9E3779B97F4A7C15ull) >> 32) & mask;
 }
 
-// Before any gate of a batch is added: its lines cover every gate, and each gate looks down and
-// is finite, its event too (a cell or a bin from a NaN would be undefined).
-void check_gates(const GateLines& l, std::span<const GateEvent* const> first) {
-    const std::size_t n = first.size();
+// A batch's lines cover its gates.
+void check_lines(const GateLines& l, std::size_t n) {
     for (const auto* line : {&l.ox, &l.oy, &l.oz, &l.dx, &l.dy, &l.dz})
         if (line->size() < n)
             throw Error("coincidence: lines for " + std::to_string(line->size()) + " of " +
                         std::to_string(n) + " gates");
-    const auto finite = [](auto... v) { return (std::isfinite(v) && ...); };
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!(l.dz[i] < -kMinDownward))
-            throw ConfigError("coincidence: a gate looks " + std::to_string(l.dz[i]) +
-                              " down (needs a line of sight within 60° of nadir)");
-        const GateEvent* e = first[i];
-        if (!finite(l.ox[i], l.oy[i], l.oz[i], l.dx[i], l.dy[i], l.r0, l.r1) ||
-            (e && !finite(e->x, e->y, e->z)))
-            throw ConfigError("coincidence: a gate or its event is not finite");
-    }
+}
+
+// The gates of a batch that look up, or whose cell, bins or event offsets (floor_gates) are not
+// finite or would not fit their integers (a NaN anywhere in a gate or its event ends up there).
+// One pass that vectorises; the caller looks for which only when some are.
+std::size_t unfit_gates(std::size_t n, const double* dz, const double* cx, const double* cy,
+                        const double* top, const double* bottom, const double* stop,
+                        const double* qx, const double* qy, const double* qz) {
+    // Each test counted as 0 or 1 (no short circuit: no branch in the loop).
+    const auto out = [](double v, double limit) { return int(!(std::fabs(v) < limit)); };
+    std::size_t unfit = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        unfit +=
+            std::size_t(int(!(dz[i] < -kMinDownward)) | out(cx[i], 0x1p62) | out(cy[i], 0x1p62) |
+                        out(top[i], 0x1p31) | out(bottom[i], 0x1p31) | out(stop[i], 0x1p31) |
+                        out(qx[i], 0x1p62) | out(qy[i], 0x1p62) | out(qz[i], 0x1p62));
+    return unfit;
 }
 
 // An offset in integer units of 2^-30 m (CoincidenceGrid::BinSum): exact for a float offset of
 // 8 mm or more, within 1e-9 m below.
-std::int64_t fixed(float offset) { return std::llround(double(offset) * 0x1p30); }
+std::int64_t fixed(float offset) {
+    return static_cast<std::int64_t>(std::nearbyint(double(offset) * 0x1p30));
+}
 
 std::size_t thread_count(int threads) {
     return threads > 0 ? std::size_t(threads)
@@ -217,13 +230,30 @@ void CoincidenceGrid::add(const Gate& gate, const GateEvent* first) {
 
 void CoincidenceGrid::add(const GateLines& l, std::span<const GateEvent* const> first) {
     const std::size_t n = first.size();
-    check_gates(l, first);
+    check_lines(l, n);
     Floors& f = floors_;
-    for (auto* v : {&f.mx, &f.my, &f.cx, &f.cy, &f.top, &f.bottom, &f.stop}) v->resize(n);
-    for (std::size_t i = 0; i < n; ++i) f.stop[i] = first[i] ? first[i]->z : 0.0;
+    for (auto* v : {&f.mx, &f.my, &f.cx, &f.cy, &f.top, &f.bottom, &f.stop, &f.qx, &f.qy, &f.qz})
+        v->resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const GateEvent* e = first[i];
+        f.qx[i] = e ? e->x : 0.0, f.qy[i] = e ? e->y : 0.0, f.stop[i] = e ? e->z : 0.0;
+    }
     floor_gates(n, l, p_.cell_m, p_.bin_m, f.mx.data(), f.my.data(), f.cx.data(), f.cy.data(),
-                f.top.data(), f.bottom.data(), f.stop.data());
+                f.top.data(), f.bottom.data(), f.stop.data(), f.qx.data(), f.qy.data(),
+                f.qz.data());
+    if (unfit_gates(n, l.dz.data(), f.cx.data(), f.cy.data(), f.top.data(), f.bottom.data(),
+                    f.stop.data(), f.qx.data(), f.qy.data(), f.qz.data()) > 0)
+        refuse_batch(l, n);
     for (std::size_t i = 0; i < n; ++i) add_one(i, first[i]);
+}
+
+// Throws for the first gate unfit_gates() counted, before any of the batch is added.
+void CoincidenceGrid::refuse_batch(const GateLines& l, std::size_t n) const {
+    for (std::size_t i = 0; i < n; ++i)
+        if (!(l.dz[i] < -kMinDownward))
+            throw ConfigError("coincidence: a gate looks " + std::to_string(l.dz[i]) +
+                              " down (needs a line of sight within 60° of nadir)");
+    throw ConfigError("coincidence: a gate or its event is not finite, or too far out");
 }
 
 // Gate i of the batch in floors_ into its column.
@@ -240,22 +270,19 @@ void CoincidenceGrid::add_one(std::size_t i, const GateEvent* first) {
     Column& c = *last_.column;
     const auto top = static_cast<std::int32_t>(f.top[i]);
     const auto bottom = static_cast<std::int32_t>(f.bottom[i]);
-    const std::int32_t stop =
-        first ? std::clamp(static_cast<std::int32_t>(f.stop[i]), bottom, top) : bottom;
+    const std::int32_t stop = first ? static_cast<std::int32_t>(f.stop[i]) : bottom;
     const std::uint32_t number = c.count++;
-    if (first) {  // offsets from the cell's corner and the bin's floor (ColumnEvent)
-        const ColumnEvent e{number,
-                            stop,
-                            static_cast<float>(first->x - double(ix) * p_.cell_m),
-                            static_cast<float>(first->y - double(iy) * p_.cell_m),
-                            static_cast<float>(first->z - double(stop) * p_.bin_m),
-                            first->classification,
-                            first->signal};
+    if (first) {
         ++c.fired;
-        if (keep_gates())
-            c.events.push_back(e);
-        else
-            c.sums.add(sum_of(e));
+        if (keep_gates())  // offsets from the cell's corner and the bin's floor (ColumnEvent)
+            c.events.push_back({number, stop, static_cast<float>(first->x - double(ix) * p_.cell_m),
+                                static_cast<float>(first->y - double(iy) * p_.cell_m),
+                                static_cast<float>(first->z - double(stop) * p_.bin_m),
+                                first->classification, first->signal});
+        else  // the same offsets as fixed() would make of them (floor_gates)
+            c.sums.add({stop, first->classification, 1, first->signal ? 1u : 0u,
+                        static_cast<std::int64_t>(f.qx[i]), static_cast<std::int64_t>(f.qy[i]),
+                        static_cast<std::int64_t>(f.qz[i])});
     }
     if (keep_gates()) {
         c.gates.push_back({top, bottom, stop});

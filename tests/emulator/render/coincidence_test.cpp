@@ -376,8 +376,8 @@ TEST(Coincidence, batches_and_modes_give_the_same_points) {
     }
 }
 
-// A gate or an event that is not finite, a gate looking up, and lines shorter than the batch are
-// refused before anything is added.
+// A gate or an event that is not finite or too far out, a gate looking up, and lines shorter than
+// the batch are refused before anything is added.
 TEST(Coincidence, bad_gates_are_refused) {
     CoincidenceGrid grid({});
     const GateEvent fine{0, 0, 10, 1, false}, nan{0, std::nan(""), 10, 1, false};
@@ -385,6 +385,8 @@ TEST(Coincidence, bad_gates_are_refused) {
     EXPECT_THROW(grid.add(Gate{{0, 0, 100}, {0, 0, 1}, 10, 100}, nullptr), ConfigError);
     EXPECT_THROW(grid.add(Gate{{std::nan(""), 0, 100}, {0, 0, -1}, 10, 100}, nullptr), ConfigError);
     EXPECT_THROW(grid.add(down, &nan), ConfigError);
+    // Finite, but a cell index past 2^62 (its integer would overflow).
+    EXPECT_THROW(grid.add(Gate{{1e30, 0, 100}, {0, 0, -1}, 10, 100}, nullptr), ConfigError);
     const std::vector<double> one{0.0};
     const std::vector<const GateEvent*> two{&fine, nullptr};
     EXPECT_THROW(grid.add({one, one, one, one, one, one, 10, 100}, two), Error);

@@ -84,7 +84,8 @@ class CoincidenceGrid {
   public:
     explicit CoincidenceGrid(CoincidenceParams p);
     // A gate and its first event (null: none fired), in time order. ConfigError for a gate not
-    // looking down or not finite (its event included). Gates outside the window are left out.
+    // looking down, or not finite (its event included) or so far out that its cell or bins
+    // overflow. Gates outside the window are left out.
     void add(const Gate& gate, const GateEvent* first);
     // Gates in time order, gate i with its first event first[i] (null: none), as add() would
     // take them one by one, except that a bad gate rejects the whole batch (before any is
@@ -174,6 +175,7 @@ class CoincidenceGrid {
     CoincidencePoint bin_point(const Column& c, std::int32_t b, std::uint32_t armed,
                                std::span<const BinSum> sums) const;
     void add_one(std::size_t i, const GateEvent* first);
+    [[noreturn]] void refuse_batch(const GateLines& l, std::size_t n) const;
     bool keep_gates() const { return p_.dwells || p_.gates_per_cell > 0; }
 
     // The column add() used last: a frame's neighbouring pixels mostly share a cell. Never
@@ -198,7 +200,7 @@ class CoincidenceGrid {
     // A batch's per-gate values, floored but not yet converted: mid-gate x and y, its cell, its
     // top and bottom bins and its event's bin (add() fills them, add_one() reads them).
     struct Floors {
-        std::vector<double> mx, my, cx, cy, top, bottom, stop;
+        std::vector<double> mx, my, cx, cy, top, bottom, stop, qx, qy, qz;
     };
 
     // The column of cell (ix, iy), made if new. Columns live in a deque (stable addresses) found
