@@ -34,10 +34,11 @@ double poisson_tail(double mean, std::uint32_t k) {
 std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
 
 // A batch of gates' arithmetic over whole arrays: mid-gate x and y, floor(x / cell),
-// floor(y / cell), the floors of the top's and the bottom's height over the bin and (stop holding
-// the events' heights) the floor of that over the bin. GCC vectorises it with -fno-trapping-math
-// (given restrict parameters; restrict locals or one array of rows it would not); the same IEEE
-// operations as one gate at a time, so the same floors.
+// floor(y / cell), the floors of the top's and the bottom's height over the bin, the event's bin
+// (stop holding its height on entry) kept within them, and the event's offsets from the cell's
+// corner and that bin's floor as fixed() makes them (qx, qy holding its x and y on entry). GCC
+// vectorises it with -fno-trapping-math (given restrict parameters; restrict locals or one array
+// of rows it would not); the same IEEE operations as one gate at a time, so the same values.
 void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, double* __restrict mx,
                  double* __restrict my, double* __restrict cx, double* __restrict cy,
                  double* __restrict top, double* __restrict bottom, double* __restrict stop,
@@ -93,7 +94,7 @@ std::size_t unfit_gates(std::size_t n, const double* dz, const double* cx, const
 }
 
 // An offset in integer units of 2^-30 m (CoincidenceGrid::BinSum): exact for a float offset of
-// 8 mm or more, within 1e-9 m below.
+// 8 mm or more, within 1e-9 m below; halves round to even, as floor_gates()' vector rounding.
 std::int64_t fixed(float offset) {
     return static_cast<std::int64_t>(std::nearbyint(double(offset) * 0x1p30));
 }
