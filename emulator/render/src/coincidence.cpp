@@ -417,14 +417,7 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
         for (std::size_t i = cells.size() * t / parts; i < cells.size() * (t + 1) / parts; ++i) {
             const Column& c = *cells[i].second;
             const std::size_t g = dwell ? std::min<std::size_t>(dwell, c.count) : c.count;
-            const auto m = keep_gates()
-                               ? static_cast<std::size_t>(
-                                     std::lower_bound(c.events.begin(), c.events.end(), g,
-                                                      [](const ColumnEvent& e, std::size_t n) {
-                                                          return e.gate < n;
-                                                      }) -
-                                     c.events.begin())
-                               : std::size_t(c.fired);
+            const std::size_t m = events_of(c, g);
             finish_column({c, g, m}, scratch, out[t], noise[i]);
             gates[t] += g;
             events[t] += m;
@@ -443,6 +436,14 @@ std::vector<CoincidencePoint> CoincidenceGrid::finish(CoincidenceStats* stats,
         stats->noise_per_bin = cells.empty() ? 0.0 : noise_sum / double(cells.size());
     }
     return all;
+}
+
+// Column c's events among its first g gates (without kept gates, g is all of them).
+std::size_t CoincidenceGrid::events_of(const Column& c, std::size_t g) const {
+    if (!keep_gates()) return c.fired;
+    const auto before = [](const ColumnEvent& e, std::size_t n) { return e.gate < n; };
+    return static_cast<std::size_t>(std::lower_bound(c.events.begin(), c.events.end(), g, before) -
+                                    c.events.begin());
 }
 
 void CoincidenceGrid::append(CoincidenceGrid&& later) {
@@ -479,7 +480,8 @@ using coincidence_detail::AtLeast;
 using coincidence_detail::Bin;
 
 // The distinct bins of a column's sums (by bin, top first), with their events and the gates armed
-// there: gates covering b, less those that fired above it.
+// there: gates covering b, less those that fired above it. (A template: the sums' type is
+// CoincidenceGrid's own.)
 template <class Sums>
 void bins_of(const Sums& sums, const AtLeast& tops, const AtLeast& bottoms,
              std::vector<Bin>& bins) {

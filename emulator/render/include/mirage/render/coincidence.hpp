@@ -168,6 +168,7 @@ class CoincidenceGrid {
         std::size_t g, m;
     };
     struct Scratch;  // a thread's buffers, reused from column to column
+    std::size_t events_of(const Column& c, std::size_t g) const;
     void sums_by_bin(const Dwell& d, Scratch& s) const;
     static BinSum sum_of(const ColumnEvent& e);
     void finish_column(const Dwell& d, Scratch& s, std::vector<CoincidencePoint>& out,
