@@ -143,10 +143,6 @@ TEST(LiveE2E, sbg_can_on_an_in_memory_bus) {
     (void)run_case({"sbg-can", "", "sbg-can:memory:e2e", 0.04});
 }
 
-// Faults from the fake INS (times after its start; live runs from ~0.6 s to ~3.6 s): a 300 ms
-// silence, a 100 m position jump, an epoch stamped 1 s back, a NaN latitude and every 50th message
-// corrupted. Live must go stale once (after its 50 ms extrapolation horizon) and resume, reject
-// and count every bad message, and never apply one: the points stay on the geometry.
 // The live loop renders a packet in windows that divide it (docs/live-navigation.md §1): the
 // fewest spanning at most twice the pipeline delay, more where the packet's firing groups do
 // not divide so. A window that straddled two packets would hold the first one back.
@@ -174,6 +170,10 @@ TEST(LiveE2E, windows_divide_a_packet_and_span_at_most_twice_the_delay) {
     }
 }
 
+// Faults from the fake INS (times after its start; live runs from ~0.6 s to ~3.6 s): a 300 ms
+// silence, a 100 m position jump, an epoch stamped 1 s back, a NaN latitude and every 50th message
+// corrupted. Live must go stale once (after its 50 ms extrapolation horizon) and resume, reject
+// and count every bad message, and never apply one: the points stay on the geometry.
 TEST(LiveE2E, faults_are_rejected_counted_and_never_applied) {
     const std::string out =
         run_case({"nmea", "pty:LINK", "nmea:LINK", 0.03,

@@ -33,10 +33,18 @@ double poisson_tail(double mean, std::uint32_t k) {
 
 std::int64_t cell_key(std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xFFFFFFFFll); }
 
+// An offset as a float (ColumnEvent's), in integer units of 2^-30 m (CoincidenceGrid::BinSum),
+// still a double so that floor_gates() vectorises: exact for an offset of 8 mm or more, within
+// 1e-9 m below; halves round to even, as the vector unit rounds.
+inline double fixed_units(double offset) {
+    return std::nearbyint(double(static_cast<float>(offset)) * 0x1p30);
+}
+std::int64_t fixed(float offset) { return static_cast<std::int64_t>(fixed_units(offset)); }
+
 // A batch of gates' arithmetic over whole arrays: mid-gate x and y, floor(x / cell),
 // floor(y / cell), the floors of the top's and the bottom's height over the bin, the event's bin
 // (stop holding its height on entry) kept within them, and the event's offsets from the cell's
-// corner and that bin's floor as fixed() makes them (qx, qy holding its x and y on entry). GCC
+// corner and that bin's floor in fixed units (qx, qy holding its x and y on entry). GCC
 // vectorises it with -fno-trapping-math (given restrict parameters; restrict locals or one array
 // of rows it would not); the same IEEE operations as one gate at a time, so the same values.
 void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, double* __restrict mx,
@@ -55,10 +63,9 @@ void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, dou
         bottom[i] = std::floor((oz[i] + r1 * dz[i]) / bin);
         const double ez = stop[i], s = std::floor(ez / bin);
         stop[i] = s < bottom[i] ? bottom[i] : s > top[i] ? top[i] : s;
-        // The event's offsets as fixed() makes them (qx, qy in: its x and y).
-        qx[i] = std::nearbyint(double(static_cast<float>(qx[i] - cx[i] * cell)) * 0x1p30);
-        qy[i] = std::nearbyint(double(static_cast<float>(qy[i] - cy[i] * cell)) * 0x1p30);
-        qz[i] = std::nearbyint(double(static_cast<float>(ez - stop[i] * bin)) * 0x1p30);
+        qx[i] = fixed_units(qx[i] - cx[i] * cell);  // (qx, qy in: the event's x and y)
+        qy[i] = fixed_units(qy[i] - cy[i] * cell);
+        qz[i] = fixed_units(ez - stop[i] * bin);
     }
 }
 
@@ -66,6 +73,15 @@ void floor_gates(std::size_t n, const GateLines& l, double cell, double bin, dou
 // keys of neighbouring cells differ in their low bits of x and of y.
 std::size_t slot_of(std::int64_t key, std::size_t mask) {
     return static_cast<std::size_t>((std::uint64_t(key) * 0x9E3779B97F4A7C15ull) >> 32) & mask;
+}
+
+// In a table of open addressing (a power of two in size, at most half full, linear probing): the
+// slot `same` matches, else the empty one where `key` goes.
+template <class Slot, class Empty, class Same>
+Slot& probe(std::vector<Slot>& slots, std::int64_t key, Empty empty, Same same) {
+    const std::size_t mask = slots.size() - 1;
+    for (std::size_t at = slot_of(key, mask);; at = (at + 1) & mask)
+        if (empty(slots[at]) || same(slots[at])) return slots[at];
 }
 
 // A batch's lines cover its gates.
@@ -91,12 +107,6 @@ std::size_t unfit_gates(std::size_t n, const double* dz, const double* cx, const
                         out(top[i], 0x1p31) | out(bottom[i], 0x1p31) | out(stop[i], 0x1p31) |
                         out(qx[i], 0x1p62) | out(qy[i], 0x1p62) | out(qz[i], 0x1p62));
     return unfit;
-}
-
-// An offset in integer units of 2^-30 m (CoincidenceGrid::BinSum): exact for a float offset of
-// 8 mm or more, within 1e-9 m below; halves round to even, as floor_gates()' vector rounding.
-std::int64_t fixed(float offset) {
-    return static_cast<std::int64_t>(std::nearbyint(double(offset) * 0x1p30));
 }
 
 std::size_t thread_count(int threads) {
@@ -296,29 +306,21 @@ void CoincidenceGrid::add_one(std::size_t i, const GateEvent* first) {
 
 CoincidenceGrid::Column& CoincidenceGrid::column(std::int64_t ix, std::int64_t iy) {
     const std::int64_t key = cell_key(ix, iy);
+    const auto empty = [](const Slot& s) { return s.index == kEmpty; };
     if (2 * (columns_.size() + 1) > slots_.size()) {  // at most half full
         std::vector<Slot> old(std::max<std::size_t>(64, 2 * slots_.size()));
         old.swap(slots_);
-        const std::size_t mask = slots_.size() - 1;
-        for (const Slot& sl : old) {
-            if (sl.index == kEmpty) continue;
-            std::size_t at = slot_of(sl.key, mask);
-            while (slots_[at].index != kEmpty) at = (at + 1) & mask;
-            slots_[at] = sl;
-        }
+        for (const Slot& sl : old)
+            if (sl.index != kEmpty)
+                probe(slots_, sl.key, empty, [](const Slot&) { return false; }) = sl;
     }
-    const std::size_t mask = slots_.size() - 1;
-    for (std::size_t at = slot_of(key, mask);; at = (at + 1) & mask) {
-        Slot& sl = slots_[at];
-        if (sl.index == kEmpty) {
-            Column& c = columns_.emplace_back();  // before the slot names it (it may throw)
-            sl = {key, static_cast<std::uint32_t>(columns_.size() - 1)};
-            c.ix = ix;
-            c.iy = iy;
-            return c;
-        }
-        if (sl.key == key) return columns_[sl.index];
-    }
+    Slot& sl = probe(slots_, key, empty, [&](const Slot& s) { return s.key == key; });
+    if (sl.index != kEmpty) return columns_[sl.index];
+    Column& c = columns_.emplace_back();  // before the slot names it (it may throw)
+    sl = {key, static_cast<std::uint32_t>(columns_.size() - 1)};
+    c.ix = ix;
+    c.iy = iy;
+    return c;
 }
 
 CoincidenceGrid::BinSum CoincidenceGrid::sum_of(const ColumnEvent& e) {
@@ -333,22 +335,18 @@ void CoincidenceGrid::BinSums::add(const BinSum& e) {
         for (const BinSum& o : old)
             if (o.events) add(o);
     }
-    const std::size_t mask = slots.size() - 1;
     const auto key = (std::int64_t(std::uint32_t(e.bin)) << 8) | e.classification;
-    for (std::size_t at = slot_of(key, mask);; at = (at + 1) & mask) {
-        BinSum& sl = slots[at];
-        if (sl.events == 0) {
-            sl = e;
-            ++used;
-            return;
-        }
-        if (sl.bin == e.bin && sl.classification == e.classification) {
-            sl.events += e.events;
-            sl.signal += e.signal;
-            sl.x += e.x, sl.y += e.y, sl.z += e.z;
-            return;
-        }
+    BinSum& sl = probe(
+        slots, key, [](const BinSum& s) { return s.events == 0; },
+        [&](const BinSum& s) { return s.bin == e.bin && s.classification == e.classification; });
+    if (sl.events == 0) {
+        sl = e;
+        ++used;
+        return;
     }
+    sl.events += e.events;
+    sl.signal += e.signal;
+    sl.x += e.x, sl.y += e.y, sl.z += e.z;
 }
 
 // A value outside the counted range (or any, once listed): widens the range or lists.
