@@ -9,6 +9,8 @@
 #include <regex>
 #include <string>
 
+#include "cli_run.hpp"
+
 namespace mirage::test {
 
 // `mirage <args>` running in the background, its stdout and stderr read as they come, straight
@@ -57,9 +59,10 @@ struct BackgroundMirage {
     }
 };
 
+// Under the same deadline as run_mirage (cli_run.hpp), so finish() cannot wait forever.
 inline BackgroundMirage start_mirage(const std::string& args) {
     BackgroundMirage b;
-    b.pipe = ::popen((std::string(MIRAGE_EXE) + " " + args + " 2>&1").c_str(), "r");
+    b.pipe = ::popen(mirage_command(args).c_str(), "r");
     return b;
 }
 
