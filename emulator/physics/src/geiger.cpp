@@ -165,6 +165,25 @@ double detect(double t, EventKind kind, const GeigerPixel& pixel, core::PulseRng
     return t - pixel.afterpulse_ns * std::log(rng.uniform());
 }
 
+// A paralyzable pixel dead until `armed_at` after a primary event at `t`: when it re-arms. Each
+// step reveals the primary events up to where the pixel would re-arm (or the rate's end): if
+// there are any, the last of them, drawn backwards (Λ(end) − Λ(last) is Exp(1); beyond the
+// step's span, there are none), restarts the dead time, and the next step reveals from there.
+// So a dead span costs a step per dead time, not a draw per primary event: a sunlit or strong
+// return holds 10⁵ and more in a gate (docs/photon-counting.md §2, dead time).
+double paralyzed_until(const EventRate& rate, double t, double armed_at, double dead_ns,
+                       core::PulseRng& rng) {
+    for (double known = t;;) {  // primary events are known up to `known`
+        const double end = std::min(armed_at, rate.gate_ns());
+        if (!(known < end)) return armed_at;
+        const double from = rate.level_at(known), to = rate.level_at(end);
+        const double back = -std::log(rng.uniform());
+        if (!(back < to - from)) return armed_at;  // none: re-armed
+        armed_at = std::max(armed_at, rate.time_at(to - back) + dead_ns);
+        known = end;
+    }
+}
+
 // The draw shared by the gated and free-running windows. Gated (`track` false): the pixel starts
 // armed, every detection is reported, and the draw ends at the max_events-th. Free-running: it
 // goes on to the rate's end, reporting those before report_ns, and returns the re-arming time.
@@ -204,6 +223,11 @@ double draw_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseR
                                             pixel, rng, report(next), out));
         } else {  // paralyzable: a primary event while dead restarts the dead time
             armed_at = std::max(armed_at, next + dead.ns);
+        }
+        if (dead.paralyzable) {  // the primary events up to re-arming, then the next one
+            armed_at = paralyzed_until(rate, next, armed_at, dead.ns, rng);
+            level = rate.level_at(std::min(armed_at, rate.gate_ns())) - std::log(rng.uniform());
+            continue;
         }
         level -= std::log(rng.uniform());
     }
