@@ -19,7 +19,7 @@ demo: build
 	scripts/demo-stream $(BUILD)
 
 # A test that sets no TIMEOUT of its own fails after TEST_TIMEOUT seconds instead of holding CI
-# until its own deadline (the slowest test takes about 80 s; docs/testing.md §2).
+# until its own deadline (the slowest takes under 20 s, 40 s sanitized; docs/testing.md §2).
 TEST_TIMEOUT ?= 600
 CTEST = ctest --output-on-failure --timeout $(TEST_TIMEOUT)
 

@@ -179,7 +179,8 @@ double paralyzed_until(const EventRate& rate, double t, double armed_at, double 
         const double from = rate.level_at(known), to = rate.level_at(end);
         const double back = -std::log(rng.uniform());
         if (!(back < to - from)) return armed_at;  // none: re-armed
-        armed_at = std::max(armed_at, rate.time_at(to - back) + dead_ns);
+        // Within the span: rounding may put `to − back` at the rate's end (time_at: +inf).
+        armed_at = std::max(armed_at, std::clamp(rate.time_at(to - back), known, end) + dead_ns);
         known = end;
     }
 }
@@ -224,6 +225,7 @@ double draw_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseR
         } else {  // paralyzable: a primary event while dead restarts the dead time
             armed_at = std::max(armed_at, next + dead.ns);
         }
+        if (!track && out.size() >= w.max_events) return armed_at;  // gated: all drawn
         if (dead.paralyzable) {  // the primary events up to re-arming, then the next one
             armed_at = paralyzed_until(rate, next, armed_at, dead.ns, rng);
             level = rate.level_at(std::min(armed_at, rate.gate_ns())) - std::log(rng.uniform());
