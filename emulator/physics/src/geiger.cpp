@@ -173,15 +173,17 @@ double detect(double t, EventKind kind, const GeigerPixel& pixel, core::PulseRng
 // return holds 10⁵ and more in a gate (docs/photon-counting.md §2, dead time).
 double paralyzed_until(const EventRate& rate, double t, double armed_at, double dead_ns,
                        core::PulseRng& rng) {
-    for (double known = t;;) {  // primary events are known up to `known`
+    // Primary events are known up to `known`, where Λ is `from`.
+    for (double known = t, from = rate.level_at(t);;) {
         const double end = std::min(armed_at, rate.gate_ns());
         if (!(known < end)) return armed_at;
-        const double from = rate.level_at(known), to = rate.level_at(end);
+        const double to = rate.level_at(end);
         const double back = -std::log(rng.uniform());
         if (!(back < to - from)) return armed_at;  // none: re-armed
         // Within the span: rounding may put `to − back` at the rate's end (time_at: +inf).
         armed_at = std::max(armed_at, std::clamp(rate.time_at(to - back), known, end) + dead_ns);
         known = end;
+        from = to;
     }
 }
 
@@ -225,8 +227,8 @@ double draw_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseR
         } else {  // paralyzable: a primary event while dead restarts the dead time
             armed_at = std::max(armed_at, next + dead.ns);
         }
-        if (!track && out.size() >= w.max_events) return armed_at;  // gated: all drawn
         if (dead.paralyzable) {  // the primary events up to re-arming, then the next one
+            if (!track && out.size() >= w.max_events) break;  // gated: all drawn
             armed_at = paralyzed_until(rate, next, armed_at, dead.ns, rng);
             level = rate.level_at(std::min(armed_at, rate.gate_ns())) - std::log(rng.uniform());
             continue;
