@@ -106,6 +106,9 @@ struct EmbreeRenderer::Impl {
         const Eigen::Matrix3f* normal_matrix = nullptr;  // instances: inverse transpose
     };
     std::vector<Slot> slots;  // by top-scene geomID
+    // Packets of 8 where the machine traces 8 natively and not 16 (AVX2 without AVX-512), where
+    // Embree traces a packet of 16 through a slower general path (docs/physics.md §4.3).
+    bool packet8 = false;
     EmbreeBuildStats stats;
 
     std::mutex error_mutex;
@@ -273,25 +276,26 @@ struct EmbreeRenderer::Impl {
         }
     }
 
-    // Packets of 16: ray at(k) of k < count, its hit into hits[at(k)].
-    template <class At>
-    void trace_packets(std::span<const Ray> rays, std::size_t count, At at,
-                       std::span<Hit> hits) const {
+    // Packets of W rays (RTCRayHit8 or RTCRayHit16): ray at(k) of k < count, its hit into
+    // hits[at(k)].
+    template <int W, class RayHitW, class At>
+    void trace_packets_of(std::span<const Ray> rays, std::size_t count, At at,
+                          std::span<Hit> hits) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers group neighbouring rays
-        alignas(64) RTCRayHit16 rh{};  // lanes past the last ray stay defined (and invalid)
-        alignas(64) int valid[16];
+        alignas(64) RayHitW rh{};  // lanes past the last ray stay defined (and invalid)
+        alignas(64) int valid[W];
         // Embree never writes time, mask, id or flags: set them once, not per packet.
-        for (std::size_t k = 0; k < 16; ++k) {
+        for (std::size_t k = 0; k < W; ++k) {
             rh.ray.time[k] = 0.0f;
             rh.ray.mask[k] = 0xFFFFFFFFu;
             rh.ray.id[k] = static_cast<unsigned>(k);
             rh.ray.flags[k] = 0;
         }
-        const Ray* r[16];
-        for (std::size_t base = 0; base < count; base += 16) {
-            const std::size_t n = std::min<std::size_t>(16, count - base);
+        const Ray* r[W];
+        for (std::size_t base = 0; base < count; base += W) {
+            const std::size_t n = std::min<std::size_t>(W, count - base);
             for (std::size_t k = 0; k < n; ++k) r[k] = &rays[at(base + k)];
             for (std::size_t k = 0; k < n; ++k) {
                 valid[k] = -1;
@@ -307,8 +311,11 @@ struct EmbreeRenderer::Impl {
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
             }
-            for (std::size_t k = n; k < 16; ++k) valid[k] = 0;  // last packet only
-            rtcIntersect16(valid, top, &ctx, &rh);
+            for (std::size_t k = n; k < W; ++k) valid[k] = 0;  // last packet only
+            if constexpr (W == 16)
+                rtcIntersect16(valid, top, &ctx, &rh);
+            else
+                rtcIntersect8(valid, top, &ctx, &rh);
             for (std::size_t k = 0; k < n; ++k) {
                 hits[at(base + k)] =
                     make_hit(rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.instID[0][k],
@@ -316,6 +323,16 @@ struct EmbreeRenderer::Impl {
                              {r[k]->dx, r[k]->dy, r[k]->dz});
             }
         }
+    }
+
+    // Packets of the widest size the machine traces natively (docs/physics.md §4.3).
+    template <class At>
+    void trace_packets(std::span<const Ray> rays, std::size_t count, At at,
+                       std::span<Hit> hits) const {
+        if (packet8)
+            trace_packets_of<8, RTCRayHit8>(rays, count, at, hits);
+        else
+            trace_packets_of<16, RTCRayHit16>(rays, count, at, hits);
     }
 };
 
@@ -326,6 +343,9 @@ EmbreeRenderer::EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt)
     im.opt = opt;
 
     // Validate everything before touching Embree, so bad input reads as ConfigError.
+    if (opt.packet_width != 0 && opt.packet_width != 8 && opt.packet_width != 16)
+        throw ConfigError("embree renderer: packet width " + std::to_string(opt.packet_width) +
+                          " (expected 0, 8 or 16)");
     std::vector<bool> instanced(scene.meshes.size(), false);
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const std::uint32_t m = scene.instances[i].mesh;
@@ -348,6 +368,10 @@ EmbreeRenderer::EmbreeRenderer(const scene::Scene& scene, EmbreeOptions opt)
     rtcSetDeviceErrorFunction(im.device, &Impl::on_error, &im);
     rtcSetDeviceMemoryMonitorFunction(im.device, &Impl::on_memory, &im);
     im.check("rtcNewDevice");
+    im.packet8 = opt.packet_width == 8 ||
+                 (opt.packet_width == 0 &&
+                  rtcGetDeviceProperty(im.device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) != 0 &&
+                  rtcGetDeviceProperty(im.device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) == 0);
 
     im.new_scene(im.top);
     im.children.assign(scene.meshes.size(), nullptr);

@@ -17,7 +17,7 @@ struct Config {
 };
 
 std::string config_name(const ::testing::TestParamInfo<Config>& info) {
-    return std::string(info.param.api == TraceApi::Single ? "single" : "packet16") +
+    return std::string(info.param.api == TraceApi::Single ? "single" : "packets") +
            (info.param.robust ? "_robust" : "");
 }
 
@@ -289,8 +289,8 @@ TEST_P(ClosedForm, box_corner_and_edge_rays_hit_at_the_slab_range) {
 
 INSTANTIATE_TEST_SUITE_P(Api, ClosedForm,
                          ::testing::Values(Config{TraceApi::Single, false},
-                                           Config{TraceApi::Packet16, false},
-                                           Config{TraceApi::Packet16, true}),
+                                           Config{TraceApi::Packets, false},
+                                           Config{TraceApi::Packets, true}),
                          config_name);
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <random>
 #include <thread>
 
 #include "mirage/core/error.hpp"
@@ -49,6 +50,64 @@ TEST(EmbreeRenderer, two_million_triangle_heightfield_reports_build_stats_and_ex
     for (std::size_t i = 0; i < rays.size(); ++i) {
         ASSERT_TRUE(hits[i].hit()) << i;
         EXPECT_NEAR(hits[i].t, truth[i], 2e-5) << i;
+    }
+}
+
+// Packets of 8 and of 16 (whichever the machine traces natively; docs/physics.md §4.3) find
+// the surfaces single rays find, through intersect() and intersect_some(), with a partial last
+// packet; any other width is refused.
+TEST(EmbreeRenderer, packets_of_8_and_16_give_the_single_rays_hits) {
+    scene::Scene s;
+    push_material(s, "ground");
+    push_material(s, "tile");
+    push_mesh(s, grid_mesh(100, -50, -50, 1.0, hills));
+    scene::Mesh tile;
+    add_triangle(tile, {0, 0, 0}, {4, 0, 0}, {4, 4, 0});
+    add_triangle(tile, {0, 0, 0}, {4, 4, 0}, {0, 4, 0});
+    tile.materials = {1};
+    push_mesh(s, tile);
+    for (int i = 0; i < 6; ++i)
+        s.instances.push_back(
+            {1, Eigen::Affine3d(Eigen::Translation3d(-40.0 + 12.0 * i, 3.0 * i - 8.0, 8.0))});
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> pos(-45, 45);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 20003; ++i) {  // not a multiple of 8 or 16
+        const Eigen::Vector3d o3(pos(rng), pos(rng), 20.0);
+        rays.push_back(make_ray(o3, Eigen::Vector3d(pos(rng), pos(rng), -5.0) - o3));
+    }
+    std::vector<std::uint32_t> some;
+    for (std::uint32_t i = 0; i < rays.size(); i += 3) some.push_back(i);
+    EmbreeOptions single;
+    single.api = TraceApi::Single;
+    const auto truth = trace(EmbreeRenderer(s, single), rays);
+    std::size_t hits = 0, on_tiles = 0;
+    for (const Hit& h : truth) hits += h.hit(), on_tiles += h.hit() && h.instance != kInvalidId;
+    EXPECT_GT(hits, 15000u);
+    EXPECT_GT(on_tiles, 50u);
+    for (const int width : {8, 16}) {
+        EmbreeOptions o;
+        o.packet_width = width;
+        const EmbreeRenderer r(s, o);
+        const auto all = trace(r, rays);
+        std::vector<Hit> picked(rays.size());
+        r.intersect_some(rays, some, picked);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(all[i].hit(), truth[i].hit()) << "width " << width << ", ray " << i;
+            if (!truth[i].hit()) continue;
+            ASSERT_EQ(all[i].instance, truth[i].instance) << "width " << width << ", ray " << i;
+            ASSERT_EQ(all[i].primitive, truth[i].primitive) << "width " << width << ", ray " << i;
+            ASSERT_NEAR(all[i].t, truth[i].t, 1e-5f * truth[i].t) << "width " << width;
+        }
+        for (const std::uint32_t i : some) {
+            ASSERT_EQ(picked[i].primitive, all[i].primitive) << "width " << width << ", ray " << i;
+            ASSERT_EQ(picked[i].t, all[i].t) << "width " << width << ", ray " << i;
+        }
+    }
+    for (const int width : {4, 12, 32, -8}) {
+        EmbreeOptions o;
+        o.packet_width = width;
+        EXPECT_THROW(EmbreeRenderer(s, o), ConfigError) << width;
     }
 }
 
@@ -177,7 +236,7 @@ TEST(EmbreeRenderer, concurrent_tracing_from_two_threads_gives_the_sequential_an
     scene::Scene s;
     push_material(s, "ground");
     push_mesh(s, grid_mesh(200, -100, -100, 1.0, hills));
-    for (const TraceApi api : {TraceApi::Single, TraceApi::Packet16}) {
+    for (const TraceApi api : {TraceApi::Single, TraceApi::Packets}) {
         EmbreeOptions o;
         o.api = api;
         const EmbreeRenderer r(s, o);

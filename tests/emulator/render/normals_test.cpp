@@ -134,10 +134,10 @@ TEST_P(Normals, non_uniform_scale_uses_the_inverse_transpose) {
     EXPECT_GT(hits, 150);
 }
 
-INSTANTIATE_TEST_SUITE_P(Api, Normals, ::testing::Values(TraceApi::Single, TraceApi::Packet16),
+INSTANTIATE_TEST_SUITE_P(Api, Normals, ::testing::Values(TraceApi::Single, TraceApi::Packets),
                          [](const auto& info) {
                              return std::string(info.param == TraceApi::Single ? "single"
-                                                                               : "packet16");
+                                                                               : "packets");
                          });
 
 }  // namespace

@@ -230,7 +230,7 @@ TEST_P(Soup, embree_matches_brute_force_except_float_ambiguous_rays) {
         }
     }
     const double n = static_cast<double>(sc.rays.size());
-    std::cout << "[soup " << (GetParam() == TraceApi::Single ? "rtcIntersect1" : "rtcIntersect16")
+    std::cout << "[soup " << (GetParam() == TraceApi::Single ? "rtcIntersect1" : "packets")
               << "] rays " << sc.rays.size() << ", hits " << hits << " (instanced "
               << instanced_hits << ", tiny 1 mm " << tiny_hits << "), disagreements "
               << disagreements << " (near edge " << edge << ", near tie " << tie << ", near tfar "
@@ -245,10 +245,10 @@ TEST_P(Soup, embree_matches_brute_force_except_float_ambiguous_rays) {
     EXPECT_LE(static_cast<double>(disagreements), 1e-3 * n);
 }
 
-INSTANTIATE_TEST_SUITE_P(Api, Soup, ::testing::Values(TraceApi::Single, TraceApi::Packet16),
+INSTANTIATE_TEST_SUITE_P(Api, Soup, ::testing::Values(TraceApi::Single, TraceApi::Packets),
                          [](const auto& info) {
                              return std::string(info.param == TraceApi::Single ? "single"
-                                                                               : "packet16");
+                                                                               : "packets");
                          });
 
 TEST(Soup, brute_force_agrees_with_independent_plane_analysis) {

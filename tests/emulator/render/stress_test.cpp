@@ -14,7 +14,7 @@ class Stress : public ::testing::TestWithParam<EmbreeOptions> {};
 
 std::string options_name(const ::testing::TestParamInfo<EmbreeOptions>& info) {
     const EmbreeOptions& o = info.param;
-    std::string n = o.api == TraceApi::Single ? "single" : "packet16";
+    std::string n = o.api == TraceApi::Single ? "single" : "packets";
     n += o.quality == BvhQuality::Low    ? "_low"
          : o.quality == BvhQuality::High ? "_high"
                                          : "_medium";
@@ -213,9 +213,9 @@ EmbreeOptions opts(TraceApi api, BvhQuality q, bool robust, bool compact) {
 
 INSTANTIATE_TEST_SUITE_P(Options, Stress,
                          ::testing::Values(opts(TraceApi::Single, BvhQuality::Medium, false, false),
-                                           opts(TraceApi::Packet16, BvhQuality::Medium, false,
+                                           opts(TraceApi::Packets, BvhQuality::Medium, false,
                                                 false),
-                                           opts(TraceApi::Packet16, BvhQuality::Low, true, false),
+                                           opts(TraceApi::Packets, BvhQuality::Low, true, false),
                                            opts(TraceApi::Single, BvhQuality::High, false, true)),
                          options_name);
 

@@ -10,13 +10,17 @@
 namespace mirage::render {
 
 enum class BvhQuality { Low, Medium, High };
-enum class TraceApi { Single, Packet16 };  // rtcIntersect1 per ray, or rtcIntersect16
+// rtcIntersect1 per ray, or packets of the machine's native width (rtcIntersect16 or 8)
+enum class TraceApi { Single, Packets };
 
 struct EmbreeOptions {
     BvhQuality quality = BvhQuality::Medium;
-    TraceApi api = TraceApi::Packet16;
+    TraceApi api = TraceApi::Packets;
     bool robust = false;   // RTC_SCENE_FLAG_ROBUST (watertight)
     bool compact = false;  // RTC_SCENE_FLAG_COMPACT
+    // Packet size for TraceApi::Packets: 8 or 16, 0 = the widest the machine traces natively
+    // (docs/physics.md §4.3). The hits do not depend on it.
+    int packet_width = 0;
     // Extra rtcNewDevice settings. Empty = automatic: "max_isa=avx2" for TraceApi::Single
     // (docs/physics.md §4.3: single rays ran faster with AVX2 kernels than AVX-512), Embree's
     // default otherwise. Build tasking is always Embree's default (all cores).
