@@ -307,11 +307,15 @@ struct EmbreeRenderer::Impl {
                 rh.ray.dir_y[k] = snap_tiny(r[k]->dy);
                 rh.ray.dir_z[k] = snap_tiny(r[k]->dz);
                 rh.ray.tfar[k] = r[k]->tfar;
+            }
+            for (std::size_t k = n; k < W; ++k) valid[k] = 0;  // last packet only
+            // Over all W lanes, a count the compiler knows: vector stores. (Over n lanes it
+            // made string stores, whose start-up cost a large share of a ray's marshalling.)
+            for (std::size_t k = 0; k < W; ++k) {
                 rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
             }
-            for (std::size_t k = n; k < W; ++k) valid[k] = 0;  // last packet only
             if constexpr (W == 16)
                 rtcIntersect16(valid, top, &ctx, &rh);
             else
