@@ -95,7 +95,10 @@ void PulseShader::merge_close_arrivals(std::vector<physics::Arrival>& arrivals) 
                 hit = arrivals[b].hit;
             }
         }
-        arrivals[out++] = {start + std::llround(pe_delay / pe), static_cast<float>(pe), hit};
+        // One alone keeps its own values (what the mean would give: no division needed).
+        arrivals[out++] = b == a + 1 ? arrivals[a]
+                                     : physics::Arrival{start + std::llround(pe_delay / pe),
+                                                        static_cast<float>(pe), hit};
         a = b;
     }
     arrivals.resize(out);
