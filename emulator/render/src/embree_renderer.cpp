@@ -21,9 +21,53 @@
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 #endif
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 namespace mirage::render {
 namespace {
+
+// A packet's lanes, field by field (RTCRayHit8's or RTCRayHit16's arrays from a lane on).
+struct Lanes {
+    float *ox, *oy, *oz, *dx, *dy, *dz, *tnear, *tfar;
+};
+
+// Rays r[0, 8) into eight lanes: Ray is eight floats in the order of Lanes, so this is an 8 × 8
+// transpose, in registers where the machine has AVX (a compiled per-lane loop gathers, which
+// cost a good share of a ray's marshalling on AVX2 machines).
+static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, ox) == 0 &&
+              offsetof(Ray, oy) == 4 && offsetof(Ray, oz) == 8 && offsetof(Ray, dx) == 12 &&
+              offsetof(Ray, dy) == 16 && offsetof(Ray, dz) == 20 && offsetof(Ray, tnear) == 24 &&
+              offsetof(Ray, tfar) == 28);
+inline void transpose8(const Ray* r, const Lanes& out) {
+#if defined(__AVX__)
+    const auto* f = reinterpret_cast<const float*>(r);
+    __m256 a[8], b[8];
+    for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(f + 8 * k);
+    for (int k = 0; k < 8; k += 2) {  // pairs of rays interleaved
+        b[k] = _mm256_unpacklo_ps(a[k], a[k + 1]);
+        b[k + 1] = _mm256_unpackhi_ps(a[k], a[k + 1]);
+    }
+    for (int k = 0; k < 8; k += 4) {  // quads of rays: fields (0, 4), (1, 5), (2, 6), (3, 7)
+        a[k] = _mm256_shuffle_ps(b[k], b[k + 2], _MM_SHUFFLE(1, 0, 1, 0));
+        a[k + 1] = _mm256_shuffle_ps(b[k], b[k + 2], _MM_SHUFFLE(3, 2, 3, 2));
+        a[k + 2] = _mm256_shuffle_ps(b[k + 1], b[k + 3], _MM_SHUFFLE(1, 0, 1, 0));
+        a[k + 3] = _mm256_shuffle_ps(b[k + 1], b[k + 3], _MM_SHUFFLE(3, 2, 3, 2));
+    }
+    float* const field[8] = {out.ox, out.oy, out.oz, out.dx, out.dy, out.dz, out.tnear, out.tfar};
+    for (int k = 0; k < 4; ++k) {  // the two halves of the eight rays joined
+        _mm256_storeu_ps(field[k], _mm256_permute2f128_ps(a[k], a[k + 4], 0x20));
+        _mm256_storeu_ps(field[k + 4], _mm256_permute2f128_ps(a[k], a[k + 4], 0x31));
+    }
+#else
+    for (int k = 0; k < 8; ++k) {
+        out.ox[k] = r[k].ox, out.oy[k] = r[k].oy, out.oz[k] = r[k].oz;
+        out.dx[k] = r[k].dx, out.dy[k] = r[k].dy, out.dz[k] = r[k].dz;
+        out.tnear[k] = r[k].tnear, out.tfar[k] = r[k].tfar;
+    }
+#endif
+}
 
 // Embree reads vertices with 16-byte loads, so a float3 buffer needs 4 bytes after the last
 // vertex; Scene::Mesh::vertices gives no such guarantee, hence a padded copy. Triangle
@@ -278,7 +322,7 @@ struct EmbreeRenderer::Impl {
 
     // Packets of W rays (RTCRayHit8 or RTCRayHit16): ray at(k) of k < count, its hit into
     // hits[at(k)].
-    template <int W, class RayHitW, class At>
+    template <int W, class RayHitW, bool Contiguous, class At>
     void trace_packets_of(std::span<const Ray> rays, std::size_t count, At at,
                           std::span<Hit> hits) const {
         RTCIntersectContext ctx;
@@ -297,18 +341,25 @@ struct EmbreeRenderer::Impl {
         for (std::size_t base = 0; base < count; base += W) {
             const std::size_t n = std::min<std::size_t>(W, count - base);
             for (std::size_t k = 0; k < n; ++k) r[k] = &rays[at(base + k)];
-            for (std::size_t k = 0; k < n; ++k) {
-                valid[k] = -1;
-                rh.ray.org_x[k] = r[k]->ox;
-                rh.ray.org_y[k] = r[k]->oy;
-                rh.ray.org_z[k] = r[k]->oz;
-                rh.ray.tnear[k] = r[k]->tnear;
-                rh.ray.dir_x[k] = snap_tiny(r[k]->dx);
-                rh.ray.dir_y[k] = snap_tiny(r[k]->dy);
-                rh.ray.dir_z[k] = snap_tiny(r[k]->dz);
-                rh.ray.tfar[k] = r[k]->tfar;
+            if (Contiguous && n == W) {  // rays[base, base + W) in a row
+                for (std::size_t k = 0; k < W; k += 8)
+                    transpose8(r[k], {rh.ray.org_x + k, rh.ray.org_y + k, rh.ray.org_z + k,
+                                      rh.ray.dir_x + k, rh.ray.dir_y + k, rh.ray.dir_z + k,
+                                      rh.ray.tnear + k, rh.ray.tfar + k});
+            } else {
+                for (std::size_t k = 0; k < n; ++k) {
+                    rh.ray.org_x[k] = r[k]->ox, rh.ray.org_y[k] = r[k]->oy;
+                    rh.ray.org_z[k] = r[k]->oz, rh.ray.tnear[k] = r[k]->tnear;
+                    rh.ray.dir_x[k] = r[k]->dx, rh.ray.dir_y[k] = r[k]->dy;
+                    rh.ray.dir_z[k] = r[k]->dz, rh.ray.tfar[k] = r[k]->tfar;
+                }
             }
-            for (std::size_t k = n; k < W; ++k) valid[k] = 0;  // last packet only
+            for (std::size_t k = 0; k < W; ++k) {  // all lanes: a loop that vectorises
+                rh.ray.dir_x[k] = snap_tiny(rh.ray.dir_x[k]);
+                rh.ray.dir_y[k] = snap_tiny(rh.ray.dir_y[k]);
+                rh.ray.dir_z[k] = snap_tiny(rh.ray.dir_z[k]);
+                valid[k] = k < n ? -1 : 0;
+            }
             // Over all W lanes, a count the compiler knows: vector stores. (Over n lanes it
             // made string stores, whose start-up cost a large share of a ray's marshalling.)
             for (std::size_t k = 0; k < W; ++k) {
@@ -330,13 +381,14 @@ struct EmbreeRenderer::Impl {
     }
 
     // Packets of the widest size the machine traces natively (docs/physics.md §4.3).
-    template <class At>
+    // Contiguous: at(k) = k.
+    template <bool Contiguous, class At>
     void trace_packets(std::span<const Ray> rays, std::size_t count, At at,
                        std::span<Hit> hits) const {
         if (packet8)
-            trace_packets_of<8, RTCRayHit8>(rays, count, at, hits);
+            trace_packets_of<8, RTCRayHit8, Contiguous>(rays, count, at, hits);
         else
-            trace_packets_of<16, RTCRayHit16>(rays, count, at, hits);
+            trace_packets_of<16, RTCRayHit16, Contiguous>(rays, count, at, hits);
     }
 };
 
@@ -443,7 +495,7 @@ void EmbreeRenderer::intersect(std::span<const Ray> rays, std::span<Hit> hits) c
     if (impl_->opt.api == TraceApi::Single) {
         impl_->trace_single(rays.first(n), hits.first(n));
     } else {
-        impl_->trace_packets(
+        impl_->trace_packets<true>(
             rays, n, [](std::size_t k) { return k; }, hits);
     }
 }
@@ -455,7 +507,7 @@ void EmbreeRenderer::intersect_some(std::span<const Ray> rays, std::span<const s
         return;
     }
     enable_ftz_daz();
-    impl_->trace_packets(
+    impl_->trace_packets<false>(
         rays, which.size(), [&](std::size_t k) { return which[k]; }, hits);
 }
 
