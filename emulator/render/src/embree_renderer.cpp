@@ -36,12 +36,12 @@ struct Lanes {
 // Rays r[0, 8) into eight lanes: Ray is eight floats in the order of Lanes, so this is an 8 × 8
 // transpose, in registers where the machine has AVX (a compiled per-lane loop gathers, which
 // cost a good share of a ray's marshalling on AVX2 machines).
-static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, ox) == 0 &&
-              offsetof(Ray, oy) == 4 && offsetof(Ray, oz) == 8 && offsetof(Ray, dx) == 12 &&
-              offsetof(Ray, dy) == 16 && offsetof(Ray, dz) == 20 && offsetof(Ray, tnear) == 24 &&
-              offsetof(Ray, tfar) == 28);
 inline void transpose8(const Ray* r, const Lanes& out) {
 #if defined(__AVX__)
+    static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, ox) == 0 &&
+                  offsetof(Ray, oy) == 4 && offsetof(Ray, oz) == 8 && offsetof(Ray, dx) == 12 &&
+                  offsetof(Ray, dy) == 16 && offsetof(Ray, dz) == 20 &&
+                  offsetof(Ray, tnear) == 24 && offsetof(Ray, tfar) == 28);
     const auto* f = reinterpret_cast<const float*>(r);
     __m256 a[8], b[8];
     for (int k = 0; k < 8; ++k) a[k] = _mm256_loadu_ps(f + 8 * k);
