@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "mirage/core/error.hpp"
@@ -62,6 +64,30 @@ TEST(Waveform, one_arrival_has_its_energy_centroid_and_the_pulse_width) {
 
 // Discrete and waveform modes agree within 1 mm on a single facet: one arrival's echo, at any
 // phase of the sample clock.
+// A window that cuts an arrival's support short gets exactly the full synthesis's samples it holds
+// and writes nothing past its end, for every length (the partial vector at the end of each) and
+// for arrivals at several phases of the clock.
+TEST(Waveform, a_window_cut_short_gets_the_same_samples_and_nothing_past_its_end) {
+    const WaveformSynth w(PulseShape::gaussian(8.0, "test"), 1.0, "test");  // ~32 samples
+    constexpr double kSentinel = -7.0;
+    for (std::int64_t delay : {100'000, 100'031, 100'500, 100'969}) {
+        const Arrival a{delay, 250.0f, 0};
+        const Wave full = synth(w, {a});
+        ASSERT_GT(full.n.size(), 24u);
+        for (std::size_t len = 1; len <= full.n.size(); ++len) {
+            std::vector<double> buf(len + 16, kSentinel);
+            std::fill_n(buf.begin(), len, 0.0);
+            w.add(a, full.j0, std::span<double>(buf.data(), len));
+            for (std::size_t k = 0; k < len; ++k)
+                ASSERT_EQ(buf[k], full.n[k])
+                    << "delay " << delay << " length " << len << " at " << k;
+            for (std::size_t k = len; k < buf.size(); ++k)
+                ASSERT_EQ(buf[k], kSentinel)
+                    << "delay " << delay << " length " << len << " at " << k;
+        }
+    }
+}
+
 TEST(LinearDetector, noise_free_echo_of_one_arrival_is_within_1_mm_at_any_clock_phase) {
     const PulseShape s = PulseShape::gaussian(4.0, "test");
     const WaveformSynth w(s, 1.0, "test");

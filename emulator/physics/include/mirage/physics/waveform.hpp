@@ -45,6 +45,8 @@ class WaveformSynth {
     void add(const Arrival& a, std::int64_t j0, std::span<double> out) const;
 
   private:
+    static void accumulate(const double* __restrict s0, const double* __restrict s1, double f,
+                           double pe, double* __restrict o, std::size_t n);
     void trim(const sensor::PulseShape& shape);
 
     double period_ps_ = 0;
