@@ -348,10 +348,12 @@ control::RigStatus RigView::status() const {
     if (!runs_) return s;
     for (const auto& r : *runs_) {
         control::SensorStatus x;
+        // Stopped by its fault before off: a stopped sensor's thread may end at once, and the
+        // register still says why it is silent (docs/control.md).
         const bool stopped = r->cell->load().stop;
         x.state = r->failed.load() ? control::SensorState::Failed
-                  : !r->running    ? control::SensorState::Off
                   : stopped        ? control::SensorState::Stopped
+                  : !r->running    ? control::SensorState::Off
                                    : control::SensorState::Streaming;
         x.packets = r->packets.load(std::memory_order_relaxed);
         x.points = r->faulty->points();
