@@ -11,6 +11,73 @@
 
 namespace mirage::physics {
 
+namespace {
+
+// A cluster's photo-electrons and raw moments of its delays about its first one, and the hit of
+// its strongest arrival. The cluster spans under a pulse width, so the raw moments lose nothing
+// that matters to cancellation.
+struct Cluster {
+    std::int64_t start = 0;
+    double pe = 0, s1 = 0, s2 = 0, s3 = 0;
+    float best = -1;
+    std::uint32_t hit = 0;
+
+    void add(const Arrival& a) {
+        const double w = a.pe, d = double(a.delay_ps - start), wd = w * d;
+        pe += w;
+        s1 += wd;
+        s2 += wd * d;
+        s3 += wd * d * d;
+        if (a.pe > best) {
+            best = a.pe;
+            hit = a.hit;
+        }
+    }
+
+    // The cluster as one arrival (narrower than 1 ps: delays are whole ps) or its two-point
+    // quadrature, into out; returns how many.
+    std::size_t quadrature(Arrival* out) const {
+        const double inv = 1.0 / pe, mean = s1 * inv, m2 = s2 * inv;
+        const double var = m2 - mean * mean;
+        if (!(var >= 1.0)) {
+            out[0] = {start + std::llround(mean), static_cast<float>(pe), hit};
+            return 1;
+        }
+        const double mu3 = s3 * inv - mean * (3.0 * m2 - 2.0 * mean * mean);
+        // Nodes x± about the mean: x₋ + x₊ = μ₃/σ², x₋·x₊ = −σ²; weights keep the mean.
+        const double half = 0.5 * mu3 / var, root = std::sqrt(half * half + var);
+        const double p_hi = (root - half) / (2.0 * root);
+        out[0] = {start + std::llround(mean + half - root), static_cast<float>(pe * (1.0 - p_hi)),
+                  hit};
+        out[1] = {start + std::llround(mean + half + root), static_cast<float>(pe * p_hi), hit};
+        return 2;
+    }
+};
+
+}  // namespace
+
+// Gauss quadrature's nodes lie inside the cluster's span, and the next cluster starts past it,
+// so the order holds. A cluster of n ≥ 2 writes at most two, at or before its own place.
+void merge_arrivals(std::vector<Arrival>& arrivals, double window_ps) {
+    std::size_t out = 0;
+    for (std::size_t a = 0; a < arrivals.size();) {
+        Cluster c{arrivals[a].delay_ps};
+        c.add(arrivals[a]);
+        std::size_t b = a + 1;
+        for (; b < arrivals.size() && double(arrivals[b].delay_ps - c.start) < window_ps; ++b)
+            c.add(arrivals[b]);
+        if (b == a + 1) {
+            arrivals[out++] = arrivals[a];
+        } else {
+            Arrival two[2];
+            const std::size_t k = c.quadrature(two);
+            for (std::size_t j = 0; j < k; ++j) arrivals[out++] = two[j];
+        }
+        a = b;
+    }
+    arrivals.resize(out);
+}
+
 WaveformSynth::WaveformSynth(const sensor::PulseShape& shape, double sample_period_ns,
                              const std::string& source) {
     if (!(sample_period_ns > 0 && sample_period_ns <= 1e3))

@@ -140,6 +140,8 @@ PulseShader::PulseShader(const Setup& setup)
         linear_.emplace(sensor_.linear, source);
         synth_.emplace(shape, 1.0 / sensor_.linear.sample_rate_gsps,
                        source + ": detector.sample_rate_gsps");
+        merge_window_ps_ = matched_ ? 1e3 * synth_->period_ns() / physics::WaveformSynth::kSubSteps
+                                    : 500.0 * sigma_p_ns_;
         if (sensor_.linear.timing == sensor::EchoTiming::ConstantFraction)
             cfd_offset_ns_ = calibrate_cfd();
     }

@@ -503,8 +503,9 @@ class PulseShader {
     std::unique_ptr<CarryChain> chain_;  // a free-running one's, between render()'s chunks
     // An array's pixel-pulses: each pixel's share of the laser's energy (empty: no array).
     std::span<const float> share_;
-    double sigma_p_ns_ = 0;  // the pulse's RMS width
-    bool matched_ = false;   // a measured pulse: echoes timed by the matched filter
+    double sigma_p_ns_ = 0;       // the pulse's RMS width
+    double merge_window_ps_ = 0;  // arrivals closer merge (merge_close_arrivals)
+    bool matched_ = false;        // a measured pulse: echoes timed by the matched filter
     // Constant-fraction timing: the emitted pulse's own delay from its leading edge at the
     // fraction to its centroid, added to every edge so a lone echo is timed as its peak.
     double cfd_offset_ns_ = 0;

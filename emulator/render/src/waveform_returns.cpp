@@ -75,33 +75,14 @@ void PulseShader::plane_arrivals(const PlaneFootprint& f, double central_pe, std
                        static_cast<float>(pe * share[k]), hit});
 }
 
-// Arrivals (sorted) less than Δt/32 apart merge into one at their photo-electron-weighted mean
-// delay, with the strongest one's hit: the waveform keeps its energy and centroid, and its
-// variance changes by less than (Δt/64)² (0.015 % of a 4 ns pulse's at 1 GS/s), while a footprint
-// on one facet square to the beam costs one synthesis instead of one per sub-ray.
+// Arrivals (sorted) in clusters become two that keep their photo-electrons and their delays'
+// mean, variance and skew (physics::merge_arrivals): the waveform then differs from theirs by
+// the fourth moment's term, ∝ (cluster width)⁴ times the pulse's fourth derivative, and a
+// footprint's sub-rays on one facet cost two syntheses instead of one per sub-ray. Clusters span
+// up to σ_p/2 for a Gaussian pulse; a measured pulse may have corners, where that term is not
+// small, and keeps Δt/32 (docs/time-resolved.md §12).
 void PulseShader::merge_close_arrivals(std::vector<physics::Arrival>& arrivals) const {
-    const double window_ps = 1e3 * synth_->period_ns() / physics::WaveformSynth::kSubSteps;
-    std::size_t out = 0;
-    for (std::size_t a = 0; a < arrivals.size();) {
-        const std::int64_t start = arrivals[a].delay_ps;
-        double pe = 0, pe_delay = 0, best = -1;
-        std::uint32_t hit = arrivals[a].hit;
-        std::size_t b = a;
-        for (; b < arrivals.size() && double(arrivals[b].delay_ps - start) < window_ps; ++b) {
-            pe += arrivals[b].pe;
-            pe_delay += double(arrivals[b].pe) * double(arrivals[b].delay_ps - start);
-            if (arrivals[b].pe > best) {
-                best = arrivals[b].pe;
-                hit = arrivals[b].hit;
-            }
-        }
-        // One alone keeps its own values (what the mean would give: no division needed).
-        arrivals[out++] = b == a + 1 ? arrivals[a]
-                                     : physics::Arrival{start + std::llround(pe_delay / pe),
-                                                        static_cast<float>(pe), hit};
-        a = b;
-    }
-    arrivals.resize(out);
+    physics::merge_arrivals(arrivals, merge_window_ps_);
 }
 
 // The batch's waveforms in three passes: each pulse's arrivals and sample groups; every group's

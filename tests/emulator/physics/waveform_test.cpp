@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <span>
 #include <vector>
 
@@ -86,6 +88,99 @@ TEST(Waveform, a_window_cut_short_gets_the_same_samples_and_nothing_past_its_end
                     << "delay " << delay << " length " << len << " at " << k;
         }
     }
+}
+
+// Moments of arrivals' delays about `about`: photo-electrons, mean, variance, third moment.
+std::array<double, 4> moments(const std::vector<Arrival>& v, double about) {
+    double m0 = 0, m1 = 0;
+    for (const Arrival& a : v) m0 += a.pe, m1 += a.pe * (double(a.delay_ps) - about);
+    const double mean = m1 / m0;
+    double m2 = 0, m3 = 0;
+    for (const Arrival& a : v) {
+        const double d = double(a.delay_ps) - about - mean;
+        m2 += a.pe * d * d;
+        m3 += a.pe * d * d * d;
+    }
+    return {m0, about + mean, m2 / m0, m3 / m0};
+}
+
+// A cluster (delays within the window of its first) becomes two arrivals inside it that keep its
+// photo-electrons, mean, variance and third moment, with its strongest arrival's hit; its
+// waveform then differs from the cluster's by under 10⁻³ of the peak (docs/time-resolved.md §12).
+TEST(Waveform, merged_arrivals_keep_four_moments_and_the_waveform) {
+    const PulseShape shape = PulseShape::gaussian(4.0, "test");
+    const WaveformSynth w(shape, 1.0, "test");
+    const double window = 500.0 * shape.sigma_ns();  // ps: σ_p/2, as the renderer merges
+    mirage::core::PulseRng rng(11, 2, 3);
+    double worst = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const int n = 2 + trial % 18;
+        std::vector<Arrival> v;
+        for (int k = 0; k < n; ++k)
+            v.push_back({500'000 + std::int64_t(rng.uniform() * (window - 1.0)),
+                         float(1.0 + 99.0 * rng.uniform()), std::uint32_t(k)});
+        std::sort(v.begin(), v.end(), [](auto& a, auto& b) { return a.delay_ps < b.delay_ps; });
+        const Arrival strongest =
+            *std::max_element(v.begin(), v.end(), [](auto& a, auto& b) { return a.pe < b.pe; });
+        std::vector<Arrival> m = v;
+        merge_arrivals(m, window);
+        const auto a = moments(v, 500'000), b = moments(m, 500'000);
+        const double sd = std::sqrt(a[2]);
+        ASSERT_LE(m.size(), 2u);
+        EXPECT_NEAR(b[0], a[0], a[0] * 1e-6);
+        EXPECT_NEAR(b[1], a[1], 0.5);           // ps: nodes are whole ps
+        EXPECT_NEAR(std::sqrt(b[2]), sd, 0.5);  // ps
+        // ps³: a node at x moved by ≤ ½ ps moves the third moment by ≤ 1.5·((x − mean)² + σ²)
+        double tol = 1.0;
+        for (const Arrival& x : m) {
+            const double d = double(x.delay_ps) - b[1];
+            tol += 1.5 * double(x.pe) / b[0] * (d * d + a[2]);
+        }
+        EXPECT_NEAR(b[3], a[3], tol);
+        for (const Arrival& x : m) {
+            EXPECT_GE(x.delay_ps, v.front().delay_ps);
+            EXPECT_LE(x.delay_ps, v.back().delay_ps);
+            EXPECT_EQ(x.hit, strongest.hit);
+        }
+        const Wave full = synth(w, v);
+        Wave merged{full.j0, std::vector<double>(full.n.size(), 0.0)};
+        for (const Arrival& x : m) w.add(x, full.j0, merged.n);
+        double peak = 0, diff = 0;
+        for (std::size_t j = 0; j < full.n.size(); ++j) {
+            peak = std::max(peak, full.n[j]);
+            diff = std::max(diff, std::abs(full.n[j] - merged.n[j]));
+        }
+        worst = std::max(worst, diff / peak);
+    }
+    EXPECT_LT(worst, 1e-3);
+    std::printf("largest waveform difference: %.2e of the peak\n", worst);
+}
+
+// Clusters far apart stay apart and in order; one alone, a cluster narrower than 1 ps and a
+// window of zero leave one arrival each.
+TEST(Waveform, merging_keeps_order_lone_arrivals_and_narrow_clusters) {
+    std::vector<Arrival> v = {{1000, 5.0f, 0}, {1000, 7.0f, 1},   {1300, 1.0f, 2},  {1700, 2.0f, 3},
+                              {9000, 4.0f, 4}, {20'000, 1.0f, 5}, {20'400, 3.0f, 6}};
+    const std::vector<Arrival> original = v;
+    std::vector<Arrival> same = v;
+    merge_arrivals(same, 0.0);
+    ASSERT_EQ(same.size(), original.size());
+    for (std::size_t k = 0; k < v.size(); ++k) EXPECT_EQ(same[k].delay_ps, original[k].delay_ps);
+    merge_arrivals(v, 850.0);
+    // [1000, 1000, 1300, 1700] → two; 9000 alone; [20000, 20400] → two
+    ASSERT_EQ(v.size(), 5u);
+    for (std::size_t k = 1; k < v.size(); ++k) EXPECT_LE(v[k - 1].delay_ps, v[k].delay_ps);
+    EXPECT_EQ(v[2].delay_ps, 9000);
+    EXPECT_EQ(v[2].hit, 4u);
+    EXPECT_EQ(v[0].hit, 1u);
+    EXPECT_EQ(v[3].delay_ps, 20'000);
+    EXPECT_EQ(v[4].delay_ps, 20'400);
+    std::vector<Arrival> narrow = {{5000, 1.0f, 0}, {5000, 2.0f, 1}, {5000, 3.0f, 2}};
+    merge_arrivals(narrow, 850.0);
+    ASSERT_EQ(narrow.size(), 1u);
+    EXPECT_EQ(narrow[0].delay_ps, 5000);
+    EXPECT_FLOAT_EQ(narrow[0].pe, 6.0f);
+    EXPECT_EQ(narrow[0].hit, 2u);
 }
 
 TEST(LinearDetector, noise_free_echo_of_one_arrival_is_within_1_mm_at_any_clock_phase) {

@@ -19,6 +19,13 @@ struct Arrival {
     std::uint32_t hit = 0;      // the batch's hit of the path's last surface
 };
 
+// Sorted arrivals in clusters (each from its first arrival to those less than `window_ps` after
+// it) replaced by each cluster's two-point Gauss quadrature: two arrivals inside the cluster
+// whose photo-electrons, mean delay, variance and third moment are the cluster's, each with the
+// cluster's strongest arrival's hit; a cluster of one, or narrower than 1 ps, stays one (at its
+// weighted mean). The result stays sorted. docs/time-resolved.md §12.
+void merge_arrivals(std::vector<Arrival>& arrivals, double window_ps);
+
 // Samples the expected waveform n(t_j)·Δt at t_j = j·Δt after emission. The shape is tabulated
 // once on a grid of Δt/kSubSteps (by phase) and interpolated linearly, so a waveform costs a
 // vectorised multiply-add per arrival and sample instead of an exponential.
