@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
@@ -54,7 +55,61 @@ struct Cluster {
     }
 };
 
+#if defined(__AVX512F__)
+// n ≤ 24 arrivals by rank: keys 32·delay + index are distinct and ordered as the stable order,
+// and each arrival's place is the count of keys below its own, three vector compares (a
+// comparison sort of a pulse's ~19 arrivals mispredicts most of its branches).
+void sort_by_rank(std::vector<Arrival>& arrivals, std::vector<Arrival>& tmp) {
+    const std::size_t n = arrivals.size();
+    alignas(64) std::int64_t key[24];
+    for (std::size_t i = 0; i < 24; ++i)
+        key[i] = i < n ? arrivals[i].delay_ps * 32 + std::int64_t(i)
+                       : std::numeric_limits<std::int64_t>::max();
+    const __m512i k0 = _mm512_load_si512(key), k1 = _mm512_load_si512(key + 8),
+                  k2 = _mm512_load_si512(key + 16);
+    tmp.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const __m512i b = _mm512_set1_epi64(key[i]);
+        const unsigned below = _mm_popcnt_u32(_mm512_cmplt_epi64_mask(k0, b)) +
+                               _mm_popcnt_u32(_mm512_cmplt_epi64_mask(k1, b)) +
+                               _mm_popcnt_u32(_mm512_cmplt_epi64_mask(k2, b));
+        tmp[below] = arrivals[i];
+    }
+    arrivals.swap(tmp);
+}
+#endif
+
 }  // namespace
+
+// Keys 32·delay + index need delays in [0, 2⁵⁸); a pulse's are far inside. Otherwise, and without
+// AVX-512, a stable insertion sort (the same order).
+void sort_by_delay(std::vector<Arrival>& arrivals, std::vector<Arrival>& tmp) {
+    const std::size_t n = arrivals.size();
+    if (n < 2) return;
+#if defined(__AVX512F__)
+    constexpr std::int64_t kMaxDelay = std::int64_t{1} << 58;
+    if (n <= 24 && std::all_of(arrivals.begin(), arrivals.end(), [](const Arrival& a) {
+            return a.delay_ps >= 0 && a.delay_ps < kMaxDelay;
+        })) {
+        sort_by_rank(arrivals, tmp);
+        return;
+    }
+#else
+    (void)tmp;
+#endif
+    if (n > 32) {
+        std::stable_sort(arrivals.begin(), arrivals.end(), [](const Arrival& a, const Arrival& b) {
+            return a.delay_ps < b.delay_ps;
+        });
+        return;
+    }
+    for (std::size_t i = 1; i < n; ++i) {
+        const Arrival a = arrivals[i];
+        std::size_t j = i;
+        for (; j > 0 && arrivals[j - 1].delay_ps > a.delay_ps; --j) arrivals[j] = arrivals[j - 1];
+        arrivals[j] = a;
+    }
+}
 
 // Gauss quadrature's nodes lie inside the cluster's span, and the next cluster starts past it,
 // so the order holds. A cluster of n ≥ 2 writes at most two, at or before its own place.

@@ -229,8 +229,7 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     const std::uint64_t pulse = g.first + i;
     const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
                                       scratch.paths ? &scratch.path : nullptr);
-    std::sort(arrivals.begin(), arrivals.end(),
-              [](const auto& x, const auto& y) { return x.delay_ps < y.delay_ps; });
+    physics::sort_by_delay(arrivals, scratch.sorted);
     const double energy = energy_factor(pulse);
     double expected = 0;
     for (auto& a : arrivals) expected += a.pe = static_cast<float>(a.pe * energy);

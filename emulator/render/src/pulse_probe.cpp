@@ -22,8 +22,7 @@ std::vector<physics::Arrival> pulse_arrivals(const Setup& setup, std::uint64_t p
     std::vector<physics::Arrival> out;
     shader.pulse_arrivals(g, hits, scratch.ray_terms.data(), shader.weighted_k(builder.subrays()),
                           0, out, scratch.paths ? &scratch.path : nullptr);
-    std::sort(out.begin(), out.end(),
-              [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
+    physics::sort_by_delay(out, scratch.sorted);
     return out;
 }
 

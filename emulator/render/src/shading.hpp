@@ -214,7 +214,7 @@ struct ShadeScratch {
     // The linear-mode detector's (waveform_returns.cpp): a pulse's arrivals as they are made,
     // then the batch's pulses, arrivals and sample groups, digitised in one pass (wave: expected
     // photo-electrons, wave_z: noise, counts) and searched for echoes pulse by pulse.
-    std::vector<physics::Arrival> arrivals;
+    std::vector<physics::Arrival> arrivals, sorted;  // (sorted: sort_by_delay's space)
     PathScratch path;
     bool paths = false;  // this batch has continuations (path.* valid)
     std::vector<PulseWave> pulse_waves;

@@ -120,8 +120,7 @@ bool PulseShader::gather_pulse(const RayBatch& g, const std::vector<Hit>& hits, 
     const bool close = pulse_arrivals(g, hits, terms, weighted_k, i, arrivals,
                                       scratch.paths ? &scratch.path : nullptr);
     if (arrivals.empty() && volume_pe_.empty()) return close;
-    std::sort(arrivals.begin(), arrivals.end(),
-              [](const auto& a, const auto& b) { return a.delay_ps < b.delay_ps; });
+    physics::sort_by_delay(arrivals, scratch.sorted);
     merge_close_arrivals(arrivals);
     const std::uint64_t pulse = g.first + i;
     const double energy = energy_factor(pulse);

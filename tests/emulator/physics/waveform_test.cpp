@@ -90,6 +90,31 @@ TEST(Waveform, a_window_cut_short_gets_the_same_samples_and_nothing_past_its_end
     }
 }
 
+// Any count, ties and far delays: the stable order by delay, whichever way it is computed.
+TEST(Waveform, arrivals_sort_by_delay_stably) {
+    mirage::core::PulseRng rng(5, 6, 7);
+    std::vector<Arrival> tmp;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const std::size_t n = std::size_t(trial % 41);
+        std::vector<Arrival> v;
+        for (std::size_t k = 0; k < n; ++k) {
+            auto d = std::int64_t(rng.uniform() * (trial % 3 == 0 ? 8.0 : 1e6));  // ties
+            if (trial % 7 == 0 && k == 0) d = -d - 1;                             // off the keys
+            if (trial % 11 == 0 && k == 1) d = std::int64_t{1} << 60;
+            v.push_back({d, 1.0f, std::uint32_t(k)});
+        }
+        std::vector<Arrival> want = v;
+        std::stable_sort(want.begin(), want.end(),
+                         [](auto& a, auto& b) { return a.delay_ps < b.delay_ps; });
+        sort_by_delay(v, tmp);
+        ASSERT_EQ(v.size(), want.size());
+        for (std::size_t k = 0; k < n; ++k) {
+            ASSERT_EQ(v[k].delay_ps, want[k].delay_ps) << "trial " << trial << " at " << k;
+            ASSERT_EQ(v[k].hit, want[k].hit) << "trial " << trial << " at " << k;
+        }
+    }
+}
+
 // Moments of arrivals' delays about `about`: photo-electrons, mean, variance, third moment.
 std::array<double, 4> moments(const std::vector<Arrival>& v, double about) {
     double m0 = 0, m1 = 0;

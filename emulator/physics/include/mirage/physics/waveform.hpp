@@ -19,6 +19,10 @@ struct Arrival {
     std::uint32_t hit = 0;      // the batch's hit of the path's last surface
 };
 
+// Arrivals in order of delay, ties in the order they came (a stable sort): the same order on any
+// machine whichever way it is computed. `tmp` is scratch space.
+void sort_by_delay(std::vector<Arrival>& arrivals, std::vector<Arrival>& tmp);
+
 // Sorted arrivals in clusters (each from its first arrival to those less than `window_ps` after
 // it) replaced by each cluster's two-point Gauss quadrature: two arrivals inside the cluster
 // whose photo-electrons, mean delay, variance and third moment are the cluster's, each with the
