@@ -182,6 +182,17 @@ struct EchoFields {
     std::uint32_t wave = core::PointRecord::kNoWave;
 };
 
+// An echo whose deviation from its fit is still to be computed (fit_deviations): its first
+// sample in the batch's counts, its samples, its fit and baseline, and its point's EchoFields
+// (kNoField while it has none).
+struct DeviationJob {
+    static constexpr std::size_t kNoField = ~std::size_t{0};
+    std::size_t at = 0;
+    std::int64_t first = 0, end = 0;
+    double time_ns = 0, amplitude = 0, sigma_ns = 0, baseline = 0;
+    std::size_t field = kNoField;
+};
+
 // Samples a render may record per pulse (RenderOptions::waveform_samples).
 inline constexpr std::uint32_t kMaxWaveformSamples = 65536;
 
@@ -226,6 +237,8 @@ struct ShadeScratch {
     std::int64_t wave_first = 0;  // the pulse's first digitised sample
     // Per pending return (linear detector only): amplitude, width, deviation, recorded waveform.
     std::vector<EchoFields> echo_fields;
+    std::vector<DeviationJob> deviation_jobs;
+    std::vector<double> fit_x;  // the jobs' samples (fit_deviations)
     // A render recording waveforms (waveform_record.cpp): the pulse's window, NaN where no
     // arrival group's samples were digitised.
     std::vector<double> record;
@@ -415,7 +428,8 @@ class PulseShader {
     double calibrate_cfd() const;
     EchoFields echo_fields(const physics::Echo& e, std::uint32_t wave,
                            std::int64_t wave_first) const;
-    double fit_deviation(const physics::Echo& e, const double* counts, double baseline) const;
+    void fit_deviations(ShadeScratch& scratch) const;
+    void fit_gaussians(ShadeScratch& scratch) const;
     void check_recording() const;
     // The pulse's energy relative to the sensor's (beam.energy_sigma; 1 when it is 0).
     double energy_factor(std::uint64_t pulse) const;

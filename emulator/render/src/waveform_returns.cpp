@@ -93,6 +93,7 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
                                    const double* terms, const std::vector<double>& weighted_k,
                                    ShadeScratch& scratch, ShadedPoints& out) const {
     scratch.echo_fields.clear();
+    scratch.deviation_jobs.clear();
     scratch.pulse_waves.clear();
     scratch.wave_arrivals.clear();
     scratch.groups.clear();
@@ -108,6 +109,7 @@ void PulseShader::waveform_returns(const RayBatch& g, const std::vector<Hit>& hi
     }
     digitise_batch(g.first, scratch);
     for (const PulseWave& w : scratch.pulse_waves) detect_pulse(g.first, w, scratch, out);
+    fit_deviations(scratch);
 }
 
 // Pulse i's arrivals (sorted, close ones merged, times its energy factor and each group's
@@ -244,7 +246,7 @@ void PulseShader::detect_group(const SampleGroup& g, double floor_pe, std::size_
 }
 
 // The echoes [from, to) of group g timed as the detector's timing says (docs/time-resolved.md
-// §12), with their deviation from the fit (the decomposition sets its own).
+// §12), each with a job for its deviation from the fit (the decomposition sets its own).
 void PulseShader::time_echoes(const SampleGroup& g, double baseline, std::size_t from,
                               std::size_t to, ShadeScratch& scratch) const {
     const auto& p = linear_->params();
@@ -253,7 +255,10 @@ void PulseShader::time_echoes(const SampleGroup& g, double baseline, std::size_t
     for (std::size_t e = from; e < to; ++e) {
         physics::Echo& echo = scratch.echoes[e];
         const double* own = counts + (echo.first - g.j0);  // the echo's first sample
-        echo.deviation = fit_deviation(echo, own, baseline);
+        echo.tag = static_cast<std::uint32_t>(scratch.deviation_jobs.size());
+        scratch.deviation_jobs.push_back({g.at + std::size_t(echo.first - g.j0), echo.first,
+                                          echo.end, echo.time_ns, echo.amplitude_counts,
+                                          echo.sigma_ns, baseline});
         if (p.timing == sensor::EchoTiming::ConstantFraction) {
             const double edge =
                 linear_->leading_edge_ns(counts, g.size(), g.j0, baseline, echo, p.cfd_fraction);
@@ -295,35 +300,65 @@ double PulseShader::calibrate_cfd() const {
     return sum / counted;
 }
 
-// The RMS difference between an echo's samples (from `y`, its first) and its fitted Gaussian on
-// the baseline (counts):
-// near the digitiser's noise for a clean echo; larger where echoes overlap or the pulse is not
-// Gaussian (a measured shape, a surface that skews it).
-double PulseShader::fit_deviation(const physics::Echo& e, const double* y, double baseline) const {
-    if (e.end <= e.first) return 0.0;
-    const double dt = synth_->period_ns();
-    const double inv = e.sigma_ns > 0 ? 1.0 / (2.0 * e.sigma_ns * e.sigma_ns) : 0.0;
-    const auto n = static_cast<std::size_t>(e.end - e.first);
-    // The model first, in a loop of its own that vectorises (a sum of squares in the same loop
-    // would keep it scalar: the compiler may not reorder the sum), then the sum in four lanes.
-    constexpr std::size_t kChunk = 64;
-    double model[kChunk], acc[4] = {0, 0, 0, 0};
-    // The sample's index as its chunk's start plus a 32-bit offset: exact, and the loop then
-    // converts 32-bit integers, which AVX2 vectorises (64-bit ones it does not).
-    for (std::size_t k0 = 0; k0 < n; k0 += kChunk) {
-        const std::size_t m = std::min(kChunk, n - k0);
-        const double start = double(e.first + std::int64_t(k0));
-        for (std::int32_t k = 0; k < std::int32_t(m); ++k) {
-            const double u = (start + double(k)) * dt - e.time_ns;
-            model[k] = baseline + e.amplitude_counts * core::exp_poly(-u * u * inv);
+// Each reported echo's RMS difference between its samples and its fitted Gaussian on the
+// baseline (counts): near the digitiser's noise for a clean echo; larger where echoes overlap or
+// the pulse is not Gaussian (a measured shape, a surface that skews it). The batch's at once: an
+// echo has a few tens of samples, too few for its exponentials to fill a vector loop, so all the
+// jobs' Gaussians are made in one loop (fit_gaussians), then each echo's squares are summed in
+// four lanes, sample k in lane k mod 4 (the order of the loop per echo this replaced: the same
+// sums).
+void PulseShader::fit_deviations(ShadeScratch& scratch) const {
+    fit_gaussians(scratch);
+    const std::vector<double>& g = scratch.fit_x;
+    std::size_t s = 0;
+    for (const DeviationJob& j : scratch.deviation_jobs) {
+        if (j.field == DeviationJob::kNoField) continue;
+        float& out = scratch.echo_fields[j.field].deviation;
+        if (j.end <= j.first) {
+            out = 0.0f;
+            continue;
         }
-        for (std::size_t k = 0; k < m; ++k) {
-            const double d = y[k0 + k] - model[k];
+        const auto n = static_cast<std::size_t>(j.end - j.first);
+        const double* y = scratch.counts.data() + j.at;
+        double acc[4] = {0, 0, 0, 0};
+        for (std::size_t k = 0; k < n; ++k) {
+            const double d = y[k] - (j.baseline + j.amplitude * g[s + k]);
             acc[k % 4] += d * d;
         }
+        s += n;
+        out = static_cast<float>(std::sqrt(((acc[0] + acc[1]) + (acc[2] + acc[3])) / double(n)));
     }
-    const double sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
-    return std::sqrt(sum / double(n));
+}
+
+// scratch.fit_x: the reported echoes' fitted Gaussians exp(−(t_k − t_fit)²/(2σ²)) at their
+// samples, echo after echo.
+void PulseShader::fit_gaussians(ShadeScratch& scratch) const {
+    const double dt = synth_->period_ns();
+    std::size_t total = 0;
+    for (const DeviationJob& j : scratch.deviation_jobs)
+        if (j.field != DeviationJob::kNoField && j.end > j.first)
+            total += std::size_t(j.end - j.first);
+    auto& x = scratch.fit_x;
+    x.resize(total);
+    std::size_t at = 0;
+    for (const DeviationJob& j : scratch.deviation_jobs) {
+        if (j.field == DeviationJob::kNoField || j.end <= j.first) continue;
+        const double inv = j.sigma_ns > 0 ? 1.0 / (2.0 * j.sigma_ns * j.sigma_ns) : 0.0;
+        // The sample's index as its 64-sample chunk's start plus a 32-bit offset: exact, and
+        // AVX2 converts 32-bit integers in vectors (64-bit ones it does not).
+        for (std::int64_t k0 = 0; k0 < j.end - j.first; k0 += 64) {
+            const double start = double(j.first + k0);
+            const auto m =
+                static_cast<std::int32_t>(std::min<std::int64_t>(64, j.end - j.first - k0));
+            double* out = x.data() + at;
+            for (std::int32_t k = 0; k < m; ++k) {
+                const double u = (start + double(k)) * dt - j.time_ns;
+                out[k] = -u * u * inv;
+            }
+            at += std::size_t(m);
+        }
+    }
+    for (double& v : x) v = core::exp_poly(v);
 }
 
 // n standard normals of the pulse's stream 1 into z, from Philox block `block` on (block b's
@@ -439,6 +474,8 @@ void PulseShader::add_echoes(std::uint32_t i, std::span<const physics::Arrival> 
         const std::uint32_t hit = volume ? kVolumeHit : best >= 0 ? strong : near;
         scratch.pending.push_back({t_ns * kMetersPerNsOneWay, e.pe / e_per_w, i, hit, k++});
         scratch.echo_fields.push_back(echo_fields(e, wave, scratch.wave_first));
+        if (linear_->params().timing != sensor::EchoTiming::Decomposition)
+            scratch.deviation_jobs[e.tag].field = scratch.echo_fields.size() - 1;
     }
 }
 

@@ -20,6 +20,7 @@ struct Echo {
     double pe = 0;                // photo-electrons of the echo (its samples above the baseline)
     double deviation = 0;  // RMS of its samples about the fitted Gaussian (set by the caller)
     std::int64_t first = 0, end = 0;  // its samples: from the valley before to the one after
+    std::uint32_t tag = 0;            // the caller's own (the renderer: its deviation's job)
 };
 
 class LinearDetector {
