@@ -38,6 +38,10 @@ struct Cluster {
     // The cluster as one arrival (narrower than 1 ps: delays are whole ps) or its two-point
     // quadrature, into out; returns how many.
     std::size_t quadrature(Arrival* out) const {
+        if (!(pe > 0.0)) {  // nothing arrives: one empty arrival, not a division by 0
+            out[0] = {start, 0.0f, hit};
+            return 1;
+        }
         const double inv = 1.0 / pe, mean = s1 * inv, m2 = s2 * inv;
         const double var = m2 - mean * mean;
         if (!(var >= 1.0)) {

@@ -200,6 +200,11 @@ TEST(Waveform, merging_keeps_order_lone_arrivals_and_narrow_clusters) {
     EXPECT_EQ(v[0].hit, 1u);
     EXPECT_EQ(v[3].delay_ps, 20'000);
     EXPECT_EQ(v[4].delay_ps, 20'400);
+    std::vector<Arrival> dark = {{700, 0.0f, 0}, {710, 0.0f, 1}};  // no light: no NaN
+    merge_arrivals(dark, 850.0);
+    ASSERT_EQ(dark.size(), 1u);
+    EXPECT_EQ(dark[0].delay_ps, 700);
+    EXPECT_EQ(dark[0].pe, 0.0f);
     std::vector<Arrival> narrow = {{5000, 1.0f, 0}, {5000, 2.0f, 1}, {5000, 3.0f, 2}};
     merge_arrivals(narrow, 850.0);
     ASSERT_EQ(narrow.size(), 1u);
