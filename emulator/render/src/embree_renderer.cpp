@@ -28,16 +28,16 @@
 namespace mirage::render {
 namespace {
 
+#if defined(__AVX__)
 // A packet's lanes, field by field (RTCRayHit8's or RTCRayHit16's arrays from a lane on).
 struct Lanes {
     float *ox, *oy, *oz, *dx, *dy, *dz, *tnear, *tfar;
 };
 
 // Rays r[0, 8) into eight lanes: Ray is eight floats in the order of Lanes, so this is an 8 × 8
-// transpose, in registers where the machine has AVX (a compiled per-lane loop gathers, which
-// cost a good share of a ray's marshalling on AVX2 machines).
+// transpose in registers (a compiled per-lane loop gathers, which cost a good share of a ray's
+// marshalling on AVX2 machines). Without AVX every packet is loaded lane by lane.
 inline void transpose8(const Ray* r, const Lanes& out) {
-#if defined(__AVX__)
     static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, ox) == 0 &&
                   offsetof(Ray, oy) == 4 && offsetof(Ray, oz) == 8 && offsetof(Ray, dx) == 12 &&
                   offsetof(Ray, dy) == 16 && offsetof(Ray, dz) == 20 &&
@@ -60,14 +60,8 @@ inline void transpose8(const Ray* r, const Lanes& out) {
         _mm256_storeu_ps(field[k], _mm256_permute2f128_ps(a[k], a[k + 4], 0x20));
         _mm256_storeu_ps(field[k + 4], _mm256_permute2f128_ps(a[k], a[k + 4], 0x31));
     }
-#else
-    for (int k = 0; k < 8; ++k) {
-        out.ox[k] = r[k].ox, out.oy[k] = r[k].oy, out.oz[k] = r[k].oz;
-        out.dx[k] = r[k].dx, out.dy[k] = r[k].dy, out.dz[k] = r[k].dz;
-        out.tnear[k] = r[k].tnear, out.tfar[k] = r[k].tfar;
-    }
-#endif
 }
+#endif
 
 // Embree reads vertices with 16-byte loads, so a float3 buffer needs 4 bytes after the last
 // vertex; Scene::Mesh::vertices gives no such guarantee, hence a padded copy. Triangle
@@ -341,12 +335,15 @@ struct EmbreeRenderer::Impl {
         for (std::size_t base = 0; base < count; base += W) {
             const std::size_t n = std::min<std::size_t>(W, count - base);
             for (std::size_t k = 0; k < n; ++k) r[k] = &rays[at(base + k)];
+#if defined(__AVX__)
             if (Contiguous && n == W) {  // rays[base, base + W) in a row
                 for (std::size_t k = 0; k < W; k += 8)
                     transpose8(r[k], {rh.ray.org_x + k, rh.ray.org_y + k, rh.ray.org_z + k,
                                       rh.ray.dir_x + k, rh.ray.dir_y + k, rh.ray.dir_z + k,
                                       rh.ray.tnear + k, rh.ray.tfar + k});
-            } else {
+            } else  // (without AVX, every packet lane by lane)
+#endif
+            {
                 for (std::size_t k = 0; k < n; ++k) {
                     rh.ray.org_x[k] = r[k]->ox, rh.ray.org_y[k] = r[k]->oy;
                     rh.ray.org_z[k] = r[k]->oz, rh.ray.tnear[k] = r[k]->tnear;

@@ -312,12 +312,8 @@ void PulseShader::fit_deviations(ShadeScratch& scratch) const {
     const std::vector<double>& g = scratch.fit_x;
     std::size_t s = 0;
     for (const DeviationJob& j : scratch.deviation_jobs) {
-        if (j.field == DeviationJob::kNoField) continue;
-        float& out = scratch.echo_fields[j.field].deviation;
-        if (j.end <= j.first) {
-            out = 0.0f;
-            continue;
-        }
+        // (an echo without samples keeps the deviation 0 it was made with)
+        if (j.field == DeviationJob::kNoField || j.end <= j.first) continue;
         const auto n = static_cast<std::size_t>(j.end - j.first);
         const double* y = scratch.counts.data() + j.at;
         double acc[4] = {0, 0, 0, 0};
@@ -326,7 +322,8 @@ void PulseShader::fit_deviations(ShadeScratch& scratch) const {
             acc[k % 4] += d * d;
         }
         s += n;
-        out = static_cast<float>(std::sqrt(((acc[0] + acc[1]) + (acc[2] + acc[3])) / double(n)));
+        scratch.echo_fields[j.field].deviation =
+            static_cast<float>(std::sqrt(((acc[0] + acc[1]) + (acc[2] + acc[3])) / double(n)));
     }
 }
 
