@@ -290,6 +290,10 @@ void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b)
         }
         return;
     }
+    if (sensor_.geiger.max_events == 1) {
+        crosstalk_first(g, i0, n, b);
+        return;
+    }
     b.own.clear();
     for (std::uint32_t p = 0; p < n; ++p)
         for (std::size_t e = b.event_at[i0 + p]; e < b.event_at[i0 + p + 1]; ++e)
@@ -327,6 +331,47 @@ void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b)
             }
     }
     by_pixel(b);
+}
+
+// The frame's crosstalk when each pixel reports its first event only, in closed form
+// (physics::crosstalk_first_events): the same events as crosstalk()'s pass in time order, with
+// each pixel's neighbours drawn from block 0 of its stream 9 (the uniforms its first detection
+// takes there), the frame's blocks at once.
+void PulseShader::crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint32_t n,
+                                  GeigerBatch& b) const {
+    const std::uint64_t frame_pulse = g.first + i0;
+    b.pulses.resize(n);
+    b.blocks.assign(n, 0);
+    for (std::uint32_t p = 0; p < n; ++p) b.pulses[p] = frame_pulse + p;
+    for (auto& w : b.words) w.resize(n);
+    core::philox_blocks(
+        opt_.seed, kCrosstalkStream, b.pulses.data(), b.blocks.data(), n,
+        {b.words[0].data(), b.words[1].data(), b.words[2].data(), b.words[3].data()});
+    b.fires.resize(n);
+    b.first_own.resize(n);
+    b.armed.assign(n, -std::numeric_limits<double>::infinity());
+    const double px = sensor_.geiger.crosstalk_probability;
+    for (std::uint32_t p = 0; p < n; ++p) {
+        const std::uint32_t w[4] = {b.words[0][p], b.words[1][p], b.words[2][p], b.words[3][p]};
+        b.fires[p] = physics::crosstalk_fires(w, px, p, sensor_.array.columns, n);
+        const std::size_t e = b.event_at[i0 + p];
+        b.first_own[p] = e < b.event_at[i0 + p + 1]
+                             ? b.events[e]
+                             : physics::GeigerEvent{std::numeric_limits<double>::infinity(),
+                                                    physics::EventKind::Noise};
+        if (geiger_->free_running)
+            if (const double d = carried(frame_pulse + p, b); d > 0.0) b.armed[p] = d;
+    }
+    physics::crosstalk_first_events(b.first_own, b.armed, b.fires, sensor_.array.columns,
+                                    b.first_kept, b.firing);
+    for (std::uint32_t p = 0; p < n; ++p) {
+        const physics::GeigerEvent& e = b.first_kept[p];
+        if (std::isfinite(e.t_ns)) {
+            b.after.push_back(e);
+            b.armed[p] = e.t_ns + sensor_.geiger.dead_time_ns;  // (for carry_on)
+        }
+        b.after_at.push_back(b.after.size());
+    }
 }
 
 // The neighbours (left, right, up, down) that pixel p's detection fires, kNoRng for the others:

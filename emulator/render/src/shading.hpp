@@ -15,6 +15,7 @@
 
 #include "carry_chain.hpp"
 #include "mirage/core/point.hpp"
+#include "mirage/physics/crosstalk.hpp"
 #include "mirage/physics/geiger.hpp"
 #include "mirage/physics/linear_detector.hpp"
 #include "mirage/physics/radiometry.hpp"
@@ -164,6 +165,14 @@ struct GeigerBatch {
     std::vector<core::PulseRng> rngs;
     std::vector<physics::GeigerEvent> after;
     std::vector<std::size_t> after_at;
+    // Crosstalk of first events only (crosstalk_first): per pixel its own event, the neighbours
+    // it fires (from block 0 of its stream, drawn for the frame at once) and its kept event.
+    std::vector<physics::GeigerEvent> first_own, first_kept;
+    std::vector<std::uint8_t> fires;
+    std::vector<physics::CrosstalkFiring> firing;
+    std::vector<std::uint32_t> blocks;
+    std::vector<std::uint64_t> pulses;
+    std::array<std::vector<std::uint32_t>, 4> words;
     // A free-running array (geiger_carry.cpp): per pixel-pulse of the frame being drawn, when its
     // own draw re-arms it; per pixel, the dead time carried into the window of frame
     // carry_frame[p] (ns into it; ≤ 0: armed at its start).
@@ -394,6 +403,8 @@ class PulseShader {
     void carry_on(std::uint64_t first, std::uint32_t i0, std::uint32_t end, bool crosstalk,
                   GeigerBatch& b) const;
     void crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const;
+    void crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint32_t n,
+                         GeigerBatch& b) const;
     std::array<std::uint32_t, 4> crosstalk_hits(std::uint64_t frame_pulse, std::uint32_t p,
                                                 std::uint32_t n, GeigerBatch& b) const;
     void by_pixel(GeigerBatch& b) const;

@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: Apache-2.0
+// Crosstalk in a Geiger-mode array (docs/photon-counting.md §2): an avalanche may fire each of
+// its pixel's four neighbours at the same moment. For pixels that report their first detection
+// only, a frame's outcome has a closed form that needs no time-ordered pass over its events.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "mirage/physics/geiger.hpp"
+
+namespace mirage::physics {
+
+// The neighbours one detection fires, as bits.
+enum CrosstalkFire : std::uint8_t { kFireLeft = 1, kFireRight = 2, kFireUp = 4, kFireDown = 8 };
+
+// Which of pixel p's neighbours (left, right, up, down: word s for direction s, fired when its
+// uniform is below `probability`) lie in a frame of `pixels` pixels, `columns` wide, row-major.
+std::uint8_t crosstalk_fires(const std::uint32_t words[4], double probability, std::uint32_t p,
+                             std::uint32_t columns, std::uint32_t pixels);
+
+// A detection's time and pixel, waiting to fire its neighbours.
+struct CrosstalkFiring {
+    double t_ns;
+    std::uint32_t p;
+};
+
+// One frame's crosstalk when every pixel reports its first detection only (max_events = 1).
+// Pixel p holds its own first event own[p] (t_ns = +inf: none), fires at or after armed[p]
+// (a dead time carried from an earlier frame; −inf: armed) and, when it detects, fires the
+// neighbours fires[p] at the same time. Processing all events in time order, as a detector does,
+// keeps for each pixel the earliest event reaching it at or after armed[p], its own on a tie;
+// that is, the earliest own event over the chains of firings that reach it. `kept` gets each
+// pixel's (t_ns = +inf: none); `heap` is scratch. O(n + f log f) for f firing pixels.
+void crosstalk_first_events(std::span<const GeigerEvent> own, std::span<const double> armed,
+                            std::span<const std::uint8_t> fires, std::uint32_t columns,
+                            std::vector<GeigerEvent>& kept, std::vector<CrosstalkFiring>& heap);
+
+}  // namespace mirage::physics

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mirage/physics/crosstalk.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mirage::physics {
+
+std::uint8_t crosstalk_fires(const std::uint32_t words[4], double probability, std::uint32_t p,
+                             std::uint32_t columns, std::uint32_t pixels) {
+    const std::uint32_t col = p % columns, row = p / columns;
+    const bool inside[4] = {col > 0, col + 1 < columns && p + 1 < pixels, row > 0,
+                            std::uint64_t(p) + columns < pixels};
+    std::uint8_t out = 0;
+    for (int s = 0; s < 4; ++s)
+        if (inside[s] && core::uniform_of_word(words[s]) < probability)
+            out = static_cast<std::uint8_t>(out | (1u << s));
+    return out;
+}
+
+// Each pixel starts from its own event; the pixels that fire anything pass their times on in
+// increasing order of time (a detection's time is final when it is the least left: only an
+// earlier one could lower it), each to the neighbours that would take it (armed, and earlier
+// than what they hold). So every pixel ends with the least time over the chains of firings
+// that reach it armed: what the time-ordered pass keeps (docs/photon-counting.md §2).
+void crosstalk_first_events(std::span<const GeigerEvent> own, std::span<const double> armed,
+                            std::span<const std::uint8_t> fires, std::uint32_t columns,
+                            std::vector<GeigerEvent>& kept, std::vector<CrosstalkFiring>& heap) {
+    const auto n = static_cast<std::uint32_t>(own.size());
+    const auto later = [](const CrosstalkFiring& a, const CrosstalkFiring& b) {
+        return b.t_ns < a.t_ns;
+    };
+    kept.resize(n);
+    heap.clear();
+    for (std::uint32_t p = 0; p < n; ++p) {
+        kept[p] = own[p];
+        if (!(own[p].t_ns >= armed[p])) kept[p].t_ns = INFINITY;  // dead: lost
+        if (fires[p] != 0 && std::isfinite(kept[p].t_ns)) heap.push_back({kept[p].t_ns, p});
+    }
+    std::make_heap(heap.begin(), heap.end(), later);
+    const std::int64_t step[4] = {-1, 1, -std::int64_t(columns), std::int64_t(columns)};
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later);
+        const auto [t, p] = heap.back();
+        heap.pop_back();
+        if (t != kept[p].t_ns) continue;  // it was taken earlier since
+        for (int s = 0; s < 4; ++s) {
+            if (!(fires[p] & (1u << s))) continue;
+            const auto q = static_cast<std::uint32_t>(std::int64_t(p) + step[s]);
+            if (!(t < kept[q].t_ns) || !(t >= armed[q])) continue;
+            kept[q] = {t, EventKind::Crosstalk};
+            if (fires[q] != 0) {
+                heap.push_back({t, q});
+                std::push_heap(heap.begin(), heap.end(), later);
+            }
+        }
+    }
+}
+
+}  // namespace mirage::physics
