@@ -233,6 +233,7 @@ double draw_events(const EventRate& rate, const GeigerPixel& pixel, core::PulseR
             level = rate.level_at(std::min(armed_at, rate.gate_ns())) - std::log(rng.uniform());
             continue;
         }
+        if (!track && out.size() >= w.max_events) break;  // gated: all drawn
         level -= std::log(rng.uniform());
     }
     return armed_at;

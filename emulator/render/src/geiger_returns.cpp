@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "mirage/core/error.hpp"
+#include "mirage/core/log_poly.hpp"
 #include "mirage/core/rng.hpp"
 #include "mirage/sensor/pulse_shape.hpp"
 #include "shading.hpp"
@@ -169,6 +170,7 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
     b.arrival_at.assign(1, 0);
     b.expected.clear();
     take_carry(b);
+    first_levels(g.first, static_cast<std::uint32_t>(n), b);
     const bool crosstalk_on = sensor_.geiger.crosstalk_probability > 0.0 && opt_.noise;
     if (crosstalk_on) {
         b.after.clear();
@@ -238,8 +240,10 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     // noise (dark counts, background, jitter, afterpulses) goes.
     physics::GeigerPixel pixel = gate.pixel;
     if (!opt_.noise) pixel.jitter_ns = pixel.afterpulse_p = 0.0;
-    core::PulseRng rng(opt_.seed, pulse, kGeigerStream);
-    const double level = physics::first_level(rng);
+    const std::array<std::uint32_t, 4> block0 = {b.first_words[0][i], b.first_words[1][i],
+                                                  b.first_words[2][i], b.first_words[3][i]};
+    core::PulseRng rng(opt_.seed, pulse, kGeigerStream, block0, 1);
+    const double level = b.level[i];
     // The gate's expected events are at most its noise and all the arrivals' photo-electrons (a
     // pulse's shares sum to 1 where the gate takes all of them): a first event above them is
     // none, and the rate need not be built. The margin covers the rate's rounding.
@@ -257,6 +261,21 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     b.arrival_at.push_back(b.arrivals.size());
     b.expected.push_back(expected);
     return close;
+}
+
+// The batch's pixel-pulses' first uniforms (block 0 of stream 8) at once, and from the first of
+// each its first event's level −ln u (physics::first_level's draw).
+void PulseShader::first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch& b) const {
+    b.pulses.resize(n);
+    b.blocks.assign(n, 0);
+    for (std::uint32_t i = 0; i < n; ++i) b.pulses[i] = first + i;
+    for (auto& w : b.first_words) w.resize(n);
+    core::philox_blocks(opt_.seed, kGeigerStream, b.pulses.data(), b.blocks.data(), n,
+                        {b.first_words[0].data(), b.first_words[1].data(),
+                         b.first_words[2].data(), b.first_words[3].data()});
+    b.level.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i)
+        b.level[i] = -core::log_poly(core::uniform_of_word(b.first_words[0][i]));
 }
 
 // The pixel's events from its rate; a free-running pixel's re-arming time into b.own_end.

@@ -173,6 +173,9 @@ struct GeigerBatch {
     std::vector<std::uint32_t> blocks;
     std::vector<std::uint64_t> pulses;
     std::array<std::vector<std::uint32_t>, 4> words;
+    // Each pixel-pulse's block 0 of stream 8 (first_levels) and its first event's level.
+    std::array<std::vector<std::uint32_t>, 4> first_words;
+    std::vector<double> level;
     // A free-running array (geiger_carry.cpp): per pixel-pulse of the frame being drawn, when its
     // own draw re-arms it; per pixel, the dead time carried into the window of frame
     // carry_frame[p] (ns into it; ≤ 0: armed at its start).
@@ -217,6 +220,9 @@ struct ShadeScratch {
     std::vector<std::uint64_t> pulse;
     std::vector<std::uint32_t> block;
     std::array<std::vector<std::uint32_t>, 4> words;
+    // Each pixel-pulse's block 0 of stream 8 (first_levels) and its first event's level.
+    std::array<std::vector<std::uint32_t>, 4> first_words;
+    std::vector<double> level;
     std::vector<std::uint32_t> sample_words;     // the waveform's words in sample order
     std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
     std::vector<Contribution> contributions;
@@ -402,6 +408,7 @@ class PulseShader {
     void take_carry(GeigerBatch& b) const;
     void carry_on(std::uint64_t first, std::uint32_t i0, std::uint32_t end, bool crosstalk,
                   GeigerBatch& b) const;
+    void first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch& b) const;
     void crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const;
     void crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint32_t n,
                          GeigerBatch& b) const;

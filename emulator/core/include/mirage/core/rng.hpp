@@ -21,6 +21,15 @@ class PulseRng {
         : key_{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)},
           pulse_(pulse),
           stream_(stream) {}
+    // The generator once `used` words of its block 0, drawn already (philox_blocks), are taken:
+    // from there it draws what one that drew them itself would.
+    PulseRng(std::uint64_t seed, std::uint64_t pulse, std::uint32_t stream,
+             const std::array<std::uint32_t, 4>& block0, int used)
+        : PulseRng(seed, pulse, stream) {
+        buf_ = block0;
+        block_ = 1;
+        used_ = used;
+    }
     // Uniform in (0, 1), never 0 or 1: one 32-bit Philox word u as (u + 0.5)·2⁻³².
     // Counter = {pulse lo, pulse hi, stream, block}; key = seed; 4 uniforms per block.
     double uniform();
