@@ -241,7 +241,7 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     physics::GeigerPixel pixel = gate.pixel;
     if (!opt_.noise) pixel.jitter_ns = pixel.afterpulse_p = 0.0;
     const std::array<std::uint32_t, 4> block0 = {b.first_words[0][i], b.first_words[1][i],
-                                                  b.first_words[2][i], b.first_words[3][i]};
+                                                 b.first_words[2][i], b.first_words[3][i]};
     core::PulseRng rng(opt_.seed, pulse, kGeigerStream, block0, 1);
     const double level = b.level[i];
     // The gate's expected events are at most its noise and all the arrivals' photo-electrons (a
@@ -250,7 +250,7 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     if (level > (noise_per_bin * double(gate.bins) + expected) * (1.0 + 1e-9)) {
         scratch.events.clear();
         if (gate.free_running) b.own_end.push_back(armed_from);
-    } else {
+    } else if (!first_event(arrivals, noise_per_bin, level, pixel, block0, scratch)) {
         event_rate(arrivals, noise_per_bin, scratch);
         draw_events(level, armed_from, pixel, rng, scratch);
     }
@@ -271,11 +271,40 @@ void PulseShader::first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch
     for (std::uint32_t i = 0; i < n; ++i) b.pulses[i] = first + i;
     for (auto& w : b.first_words) w.resize(n);
     core::philox_blocks(opt_.seed, kGeigerStream, b.pulses.data(), b.blocks.data(), n,
-                        {b.first_words[0].data(), b.first_words[1].data(),
-                         b.first_words[2].data(), b.first_words[3].data()});
+                        {b.first_words[0].data(), b.first_words[1].data(), b.first_words[2].data(),
+                         b.first_words[3].data()});
     b.level.resize(n);
     for (std::uint32_t i = 0; i < n; ++i)
         b.level[i] = -core::log_poly(core::uniform_of_word(b.first_words[0][i]));
+}
+
+// A gated pixel that reports its first event only: that event straight from its arrivals'
+// rows (physics::gated_first_event), its signal uniform and jitter the next words of block 0 as
+// draw_events would take them; false where the rate must be built (overlapping arrivals,
+// rounding at a bin's edge) or the pixel is not such a one.
+bool PulseShader::first_event(std::span<const physics::Arrival> arrivals, double noise_per_bin,
+                              double level, const physics::GeigerPixel& pixel,
+                              const std::array<std::uint32_t, 4>& block0,
+                              ShadeScratch& scratch) const {
+    const GeigerGate& g = *geiger_;
+    if (g.free_running || sensor_.geiger.max_events != 1) return false;
+    auto& runs = scratch.geiger.runs;
+    runs.clear();
+    for (const physics::Arrival& a : arrivals) {
+        const ArrivalRow r = arrival_row(a);
+        runs.push_back({r.k0, double(a.pe), r.w, g.span});
+    }
+    physics::GeigerEvent e;
+    const auto result = physics::gated_first_event(runs, g.bins, noise_per_bin, g.bin_ns, level,
+                                                   core::uniform_of_word(block0[1]), e);
+    if (result == physics::FirstEventResult::Undecided) return false;
+    scratch.events.clear();
+    if (result == physics::FirstEventResult::Event) {
+        if (pixel.jitter_ns > 0.0)
+            e.t_ns += pixel.jitter_ns * core::inverse_normal_cdf(core::uniform_of_word(block0[2]));
+        scratch.events.push_back(e);
+    }
+    return true;
 }
 
 // The pixel's events from its rate; a free-running pixel's re-arming time into b.own_end.

@@ -16,6 +16,7 @@
 #include "carry_chain.hpp"
 #include "mirage/core/point.hpp"
 #include "mirage/physics/crosstalk.hpp"
+#include "mirage/physics/first_event.hpp"
 #include "mirage/physics/geiger.hpp"
 #include "mirage/physics/linear_detector.hpp"
 #include "mirage/physics/radiometry.hpp"
@@ -176,6 +177,7 @@ struct GeigerBatch {
     // Each pixel-pulse's block 0 of stream 8 (first_levels) and its first event's level.
     std::array<std::vector<std::uint32_t>, 4> first_words;
     std::vector<double> level;
+    std::vector<physics::SignalRun> runs;  // a pixel's arrivals as rows (first_event)
     // A free-running array (geiger_carry.cpp): per pixel-pulse of the frame being drawn, when its
     // own draw re-arms it; per pixel, the dead time carried into the window of frame
     // carry_frame[p] (ns into it; ≤ 0: armed at its start).
@@ -223,6 +225,7 @@ struct ShadeScratch {
     // Each pixel-pulse's block 0 of stream 8 (first_levels) and its first event's level.
     std::array<std::vector<std::uint32_t>, 4> first_words;
     std::vector<double> level;
+    std::vector<physics::SignalRun> runs;        // a pixel's arrivals as rows (first_event)
     std::vector<std::uint32_t> sample_words;     // the waveform's words in sample order
     std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
     std::vector<Contribution> contributions;
@@ -409,6 +412,9 @@ class PulseShader {
     void carry_on(std::uint64_t first, std::uint32_t i0, std::uint32_t end, bool crosstalk,
                   GeigerBatch& b) const;
     void first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch& b) const;
+    bool first_event(std::span<const physics::Arrival> arrivals, double noise_per_bin, double level,
+                     const physics::GeigerPixel& pixel, const std::array<std::uint32_t, 4>& block0,
+                     ShadeScratch& scratch) const;
     void crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const;
     void crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint32_t n,
                          GeigerBatch& b) const;
