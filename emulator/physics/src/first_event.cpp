@@ -16,10 +16,17 @@ struct Crossing {
     double s = 0, c_before = 0;
 };
 
+bool has_signal(const SignalRun& r, std::int64_t j) {
+    const double s = r.scale * r.w[j];
+    return s > 0.0 && s < kHuge;
+}
+
 }  // namespace
 
-// EventRate::add_run's sums in its order (c += s; end = noise·(k + 1) + c), time_at's and
-// signal_share's formulas on the one bin they read: the same doubles.
+// EventRate::add_run's sums in its order (c += s; end = noise·(k + 1) + c) up to the bin where
+// Λ crosses the level, time_at's and signal_share's formulas on the one bin they read: the same
+// doubles. Past the crossing no sum is needed (the total lies above the level), only each run's
+// last bin with signal, for the overlap test.
 FirstEventResult gated_first_event(std::span<const SignalRun> runs, std::size_t bins,
                                    double noise_per_bin, double bin_ns, double level,
                                    double u_signal, GeigerEvent& out) {
@@ -34,21 +41,28 @@ FirstEventResult gated_first_event(std::span<const SignalRun> runs, std::size_t 
             std::min<std::int64_t>(std::int64_t(r.n), std::int64_t(bins) - r.k0);
         if (r.k0 + std::int64_t(r.n) > 0 && std::max<std::int64_t>(r.k0, 0) <= last)
             return FirstEventResult::Undecided;  // overlaps: merged bin by bin
-        for (std::int64_t j = lo; j < hi; ++j) {
+        std::int64_t j = lo;
+        for (; j < hi && !crossed; ++j) {
             const double s = r.scale * r.w[j];
             if (!(s > 0.0) || !(s < kHuge)) continue;
             const std::int64_t k = r.k0 + j;
             const double before = c;
             c += s;
-            if (!crossed && noise * double(static_cast<std::uint32_t>(k + 1)) + c > level) {
+            if (noise * double(static_cast<std::uint32_t>(k + 1)) + c > level) {
                 x = {k, last, s, before};
                 crossed = true;
             }
             last = k;
         }
+        if (!crossed) continue;
+        for (std::int64_t e = hi - 1; e >= j; --e)
+            if (has_signal(r, e)) {
+                last = r.k0 + e;
+                break;
+            }
     }
-    const double total = noise * double(bins) + c;
-    if (!(level < total)) return FirstEventResult::None;  // beyond the gate
+    if (!crossed && !(level < noise * double(bins) + c))
+        return FirstEventResult::None;  // beyond the gate
     double t;
     if (!crossed) {  // in the noise after the last signal bin
         if (!(noise > 0.0)) return FirstEventResult::None;  // (at the gate's end)
