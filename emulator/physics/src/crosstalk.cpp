@@ -18,6 +18,26 @@ std::uint8_t crosstalk_fires(const std::uint32_t words[4], double probability, s
     return out;
 }
 
+// uniform_of_word(w) < probability ⟺ w + ½ < probability·2³² (both sides exact) ⟺ w below
+// ⌈probability·2³² − ½⌉, an integer up to 2³².
+void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double probability,
+                     std::uint32_t columns, std::uint32_t pixels, std::uint8_t* out) {
+    const double x = std::ceil(std::clamp(probability, 0.0, 1.0) * 0x1p32 - 0.5);
+    const auto below = static_cast<std::uint64_t>(std::max(0.0, x));
+    for (std::uint32_t row0 = 0; row0 < pixels; row0 += columns) {
+        const std::uint32_t end = std::min(pixels - row0, columns);
+        for (std::uint32_t c = 0; c < end; ++c) {
+            const std::uint32_t p = row0 + c;
+            const bool left = c > 0, right = c + 1 < end, up = row0 > 0,
+                       down = std::uint64_t(p) + columns < pixels;
+            out[p] = static_cast<std::uint8_t>((left && words[0][p] < below ? kFireLeft : 0) |
+                                               (right && words[1][p] < below ? kFireRight : 0) |
+                                               (up && words[2][p] < below ? kFireUp : 0) |
+                                               (down && words[3][p] < below ? kFireDown : 0));
+        }
+    }
+}
+
 // Each pixel starts from its own event; the pixels that fire anything pass their times on in
 // increasing order of time (a detection's time is final when it is the least left: only an
 // earlier one could lower it), each to the neighbours that would take it (armed, and earlier

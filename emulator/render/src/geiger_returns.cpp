@@ -398,10 +398,10 @@ void PulseShader::crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint
     b.fires.resize(n);
     b.first_own.resize(n);
     b.armed.assign(n, -std::numeric_limits<double>::infinity());
-    const double px = sensor_.geiger.crosstalk_probability;
+    physics::crosstalk_fires(
+        {b.words[0].data(), b.words[1].data(), b.words[2].data(), b.words[3].data()},
+        sensor_.geiger.crosstalk_probability, sensor_.array.columns, n, b.fires.data());
     for (std::uint32_t p = 0; p < n; ++p) {
-        const std::uint32_t w[4] = {b.words[0][p], b.words[1][p], b.words[2][p], b.words[3][p]};
-        b.fires[p] = physics::crosstalk_fires(w, px, p, sensor_.array.columns, n);
         const std::size_t e = b.event_at[i0 + p];
         b.first_own[p] = e < b.event_at[i0 + p + 1]
                              ? b.events[e]

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -61,6 +62,37 @@ TEST(Crosstalk, fires_only_neighbours_inside_the_frame_below_the_probability) {
     EXPECT_EQ(crosstalk_fires(low, 0.5, 2, 1, 4), 4 | 8);      // one column
     const std::uint32_t half[4] = {0x7FFFFFFFu, 0x80000000u, 0, ~0u};  // u just below / above ½
     EXPECT_EQ(crosstalk_fires(half, 0.5, 5, 4, 16), 1 | 4);
+}
+
+// The frame's at once (compares on the words) as pixel by pixel (on the uniforms): random words,
+// and words at the probability's edge.
+TEST(Crosstalk, a_frame_fires_as_its_pixels_one_by_one) {
+    std::mt19937_64 gen(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int frame = 0; frame < 3000; ++frame) {
+        const std::uint32_t columns = 1 + std::uint32_t(gen() % 40),
+                            rows = 1 + std::uint32_t(gen() % 40);
+        const std::uint32_t n = columns * rows - std::uint32_t(gen() % (columns * rows));
+        const double p = frame % 7 == 0 ? 0.0 : frame % 11 == 0 ? 1.0 : u(gen);
+        const auto edge = static_cast<std::uint32_t>(
+            std::min(4294967295.0, std::max(0.0, std::floor(p * 0x1p32 - 0.5))));
+        std::array<std::vector<std::uint32_t>, 4> w;
+        for (auto& v : w) {
+            v.resize(n);
+            for (auto& x : v) {
+                const auto r = static_cast<std::uint32_t>(gen());
+                x = r % 4 == 0 ? edge + (r >> 2) % 3 - 1 : r;  // near the edge, or anywhere
+            }
+        }
+        std::vector<std::uint8_t> all(n);
+        crosstalk_fires({w[0].data(), w[1].data(), w[2].data(), w[3].data()}, p, columns, n,
+                        all.data());
+        for (std::uint32_t q = 0; q < n; ++q) {
+            const std::uint32_t one[4] = {w[0][q], w[1][q], w[2][q], w[3][q]};
+            ASSERT_EQ(all[q], crosstalk_fires(one, p, q, columns, n))
+                << "frame " << frame << " pixel " << q << " p " << p;
+        }
+    }
 }
 
 // 20 000 random frames up to 8 × 8: own events at a few distinct times (so ties happen), a

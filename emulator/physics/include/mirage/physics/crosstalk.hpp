@@ -3,6 +3,7 @@
 // its pixel's four neighbours at the same moment. For pixels that report their first detection
 // only, a frame's outcome has a closed form that needs no time-ordered pass over its events.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -24,6 +25,11 @@ struct CrosstalkFiring {
     double t_ns;
     std::uint32_t p;
 };
+
+// The same for a whole frame, pixel p's words at words[s][p], into out[p]: a loop over the
+// array's rows and columns whose compares, made on the words themselves, vectorise.
+void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double probability,
+                     std::uint32_t columns, std::uint32_t pixels, std::uint8_t* out);
 
 // One frame's crosstalk when every pixel reports its first detection only (max_events = 1).
 // Pixel p holds its own first event own[p] (t_ns = +inf: none), fires at or after armed[p]
