@@ -21,53 +21,66 @@ bool has_signal(const SignalRun& r, std::int64_t j) {
     return s > 0.0 && s < kHuge;
 }
 
+// The bins of run r (from 0, up to hi) whose Λ at the end lies at or below the level, c the
+// signal before the run: Λ never falls along a run (a bin without signal adds the noise), so
+// they come first and their count is the first bin above the level.
+std::int64_t bins_at_or_below(const SignalRun& r, std::int64_t hi, double noise, double c,
+                              double level) {
+    const double k1 = double(r.k0 + 1);
+    std::int64_t count = 0;
+    for (std::int64_t j = 0; j < hi; ++j)
+        count += std::fma(noise, k1 + double(j), std::fma(r.scale, r.shares[j], c)) <= level;
+    return count;
+}
+
+// The last bin of run r before `to` that has signal, or −1.
+std::int64_t last_with_signal(const SignalRun& r, std::int64_t to) {
+    for (std::int64_t j = to - 1; j >= 0; --j)
+        if (has_signal(r, j)) return j;
+    return -1;
+}
+
 }  // namespace
 
-// EventRate::add_run's sums in its order (c += s; end = noise·(k + 1) + c) up to the bin where
-// Λ crosses the level, time_at's and signal_share's formulas on the one bin they read: the same
-// doubles. Past the crossing no sum is needed (the total lies above the level), only each run's
-// last bin with signal, for the overlap test.
+// EventRate::add_run's sums (Λ's signal part at a bin: the sum before its run plus scale times
+// the run's shares up to it; its end adds noise·(k + 1)), time_at's and signal_share's formulas
+// on the one bin they read: the same doubles.
 FirstEventResult gated_first_event(std::span<const SignalRun> runs, std::size_t bins,
                                    double noise_per_bin, double bin_ns, double level,
                                    double u_signal, GeigerEvent& out) {
     const double noise = noise_per_bin;
     std::int64_t last = -1;  // the last bin with signal
-    double c = 0;
+    double c = 0;            // the signal before the run
     Crossing x;
     bool crossed = false;
     for (const SignalRun& r : runs) {
-        const std::int64_t lo = std::max<std::int64_t>(0, -r.k0);
         const std::int64_t hi =
             std::min<std::int64_t>(std::int64_t(r.n), std::int64_t(bins) - r.k0);
         if (r.k0 + std::int64_t(r.n) > 0 && std::max<std::int64_t>(r.k0, 0) <= last)
             return FirstEventResult::Undecided;  // overlaps: merged bin by bin
-        std::int64_t j = lo;
-        for (; j < hi && !crossed; ++j) {
-            const double s = r.scale * r.w[j];
-            if (!(s > 0.0) || !(s < kHuge)) continue;
-            const std::int64_t k = r.k0 + j;
-            const double before = c;
-            c += s;
-            if (noise * double(static_cast<std::uint32_t>(k + 1)) + c > level) {
-                x = {k, last, s, before};
+        const std::int64_t lo = std::max<std::int64_t>(0, -r.k0);
+        if (lo >= hi) continue;                          // outside the gate
+        if (lo > 0) return FirstEventResult::Undecided;  // its sums start inside the run
+        if (!crossed) {
+            std::int64_t j = bins_at_or_below(r, hi, noise, c, level);
+            while (j < hi && !has_signal(r, j)) ++j;  // the first entry above: one with signal
+            if (j < hi) {
+                const std::int64_t before = last_with_signal(r, j);
+                x = {r.k0 + j, before >= 0 ? r.k0 + before : last, r.scale * r.w[j],
+                     j > 0 ? std::fma(r.scale, r.shares[j - 1], c) : c};
                 crossed = true;
             }
-            last = k;
         }
-        if (!crossed) continue;
-        for (std::int64_t e = hi - 1; e >= j; --e)
-            if (has_signal(r, e)) {
-                last = r.k0 + e;
-                break;
-            }
+        if (const std::int64_t e = last_with_signal(r, hi); e >= 0) last = r.k0 + e;
+        c = std::fma(r.scale, r.shares[hi - 1], c);
     }
-    if (!crossed && !(level < noise * double(bins) + c))
+    if (!crossed && !(level < std::fma(noise, double(bins), c)))
         return FirstEventResult::None;  // beyond the gate
     double t;
     if (!crossed) {  // in the noise after the last signal bin
         if (!(noise > 0.0)) return FirstEventResult::None;  // (at the gate's end)
         t = std::min(double(bins), (level - c) / noise) * bin_ns;
-    } else if (const double start = noise * double(x.k) + x.c_before; level >= start) {
+    } else if (const double start = std::fma(noise, double(x.k), x.c_before); level >= start) {
         t = (double(x.k) + std::min(1.0, (level - start) / (noise + x.s))) * bin_ns;
     } else if (noise > 0.0) {  // in the noise before bin k
         t = std::min(double(bins), (level - x.c_before) / noise) * bin_ns;

@@ -81,16 +81,18 @@ void EventRate::add_run(std::int64_t k0, double scale, const double* w, std::siz
     signal_.resize(most);
     end_.resize(most);
     cum_.resize(most + 1);
-    double c = cum_[m];
+    const double base = cum_[m];
+    double shares = 0;  // the run's shares taken so far, summed in order
     for (std::int64_t j = lo; j < hi; ++j) {
         const double s = scale * w[j];
         if (!(s > 0.0) || !(s < kHuge)) continue;
         const auto k = static_cast<std::uint32_t>(k0 + j);
-        c += s;
+        shares += w[j];
+        const double c = std::fma(scale, shares, base);
         key_[m] = k;
         signal_[m] = s;
         cum_[m + 1] = c;
-        end_[m] = noise_ * double(k + 1) + c;
+        end_[m] = std::fma(noise_, double(k + 1), c);
         ++m;
     }
     key_.resize(m);
@@ -123,7 +125,7 @@ double EventRate::time_at(double level) const {
     const auto j =
         static_cast<std::size_t>(std::upper_bound(end_.begin(), end_.end(), level) - end_.begin());
     if (j < key_.size()) {
-        const double start = noise_ * double(key_[j]) + cum_[j];
+        const double start = std::fma(noise_, double(key_[j]), cum_[j]);
         if (level >= start)
             return (double(key_[j]) + std::min(1.0, (level - start) / (noise_ + signal_[j]))) *
                    bin_ns_;

@@ -99,6 +99,12 @@ void PulseShader::tabulate_bin_weights(const sensor::PulseShape& shape, double h
             g.weights[f * g.span + j] = cumulative(lo + (double(j) + 1.0 - phi) * g.bin_ns) -
                                         cumulative(lo + (double(j) - phi) * g.bin_ns);
     }
+    g.shares.resize(g.weights.size());
+    for (std::size_t f = 0; f <= kBinOffsets; ++f) {
+        double sum = 0;
+        for (std::size_t j = 0; j < g.span; ++j)
+            g.shares[f * g.span + j] = sum += std::max(0.0, g.weights[f * g.span + j]);
+    }
 }
 
 // Where an arrival's photo-electrons fall: the gate's bin k0 takes the first entry of its table
@@ -292,7 +298,7 @@ bool PulseShader::first_event(std::span<const physics::Arrival> arrivals, double
     runs.clear();
     for (const physics::Arrival& a : arrivals) {
         const ArrivalRow r = arrival_row(a);
-        runs.push_back({r.k0, double(a.pe), r.w, g.span});
+        runs.push_back({r.k0, double(a.pe), r.w, r.w - g.weights.data() + g.shares.data(), g.span});
     }
     physics::GeigerEvent e;
     const auto result = physics::gated_first_event(runs, g.bins, noise_per_bin, g.bin_ns, level,

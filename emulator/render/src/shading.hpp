@@ -396,6 +396,7 @@ class PulseShader {
         // tabulate_bin_weights(): the pulse's share per bin, `span` bins per offset row.
         std::size_t span = 0;
         std::vector<double> weights;
+        std::vector<double> shares;  // each row's running sums, in order (physics::SignalRun)
     };
     void init_geiger();
     void tabulate_bin_weights(const sensor::PulseShape& shape, double hi, GeigerGate& g) const;

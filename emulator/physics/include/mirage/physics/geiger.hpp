@@ -4,6 +4,7 @@
 // (signal times the photon detection efficiency, background and dark counts) make a
 // piecewise-constant rate over the gate; events are drawn exactly by inverting its integral.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -52,12 +53,15 @@ class EventRate {
         key_.push_back(k);
         signal_.push_back(signal);
         cum_.push_back(cum_.back() + signal);
-        end_.push_back(noise_ * double(k + 1) + cum_.back());
+        end_.push_back(std::fma(noise_, double(k + 1), cum_.back()));
     }
     // Bins k0 + j for j < n expecting scale·w[j] (a pulse's shares times its photo-electrons),
-    // as add() would take them one by one, in one pass.
+    // as add() would take them one by one, in one pass; Λ's signal part at each bin is the sum
+    // before the run plus scale times the run's shares so far (one rounding of the product for
+    // each bin, not a running sum of products), so gated_first_event finds it without a chain
+    // of additions (docs/photon-counting.md §2).
     void add_run(std::int64_t k0, double scale, const double* w, std::size_t n);
-    void finish() { total_ = noise_ * double(bins_) + cum_.back(); }
+    void finish() { total_ = std::fma(noise_, double(bins_), cum_.back()); }
     // The last bin given a signal, or −1.
     std::int64_t last_key() const { return key_.empty() ? -1 : std::int64_t(key_.back()); }
     std::size_t bins() const { return bins_; }
