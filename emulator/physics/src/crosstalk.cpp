@@ -38,23 +38,21 @@ void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double pr
     }
 }
 
-// Each pixel starts from its own event; the pixels that fire anything pass their times on in
+// Each pixel starts from its own event (dead: none); the pixels that fire anything pass their times on in
 // increasing order of time (a detection's time is final when it is the least left: only an
 // earlier one could lower it), each to the neighbours that would take it (armed, and earlier
 // than what they hold). So every pixel ends with the least time over the chains of firings
 // that reach it armed: what the time-ordered pass keeps (docs/photon-counting.md §2).
-void crosstalk_first_events(std::span<const GeigerEvent> own, std::span<const double> armed,
+void crosstalk_first_events(std::span<GeigerEvent> kept, std::span<const double> armed,
                             std::span<const std::uint8_t> fires, std::uint32_t columns,
-                            std::vector<GeigerEvent>& kept, std::vector<CrosstalkFiring>& heap) {
-    const auto n = static_cast<std::uint32_t>(own.size());
+                            std::vector<CrosstalkFiring>& heap) {
+    const auto n = static_cast<std::uint32_t>(kept.size());
     const auto later = [](const CrosstalkFiring& a, const CrosstalkFiring& b) {
         return b.t_ns < a.t_ns;
     };
-    kept.resize(n);
     heap.clear();
     for (std::uint32_t p = 0; p < n; ++p) {
-        kept[p] = own[p];
-        if (!(own[p].t_ns >= armed[p])) kept[p].t_ns = INFINITY;  // dead: lost
+        if (!(kept[p].t_ns >= armed[p])) kept[p].t_ns = INFINITY;  // dead: lost
         if (fires[p] != 0 && std::isfinite(kept[p].t_ns)) heap.push_back({kept[p].t_ns, p});
     }
     std::make_heap(heap.begin(), heap.end(), later);

@@ -20,6 +20,7 @@ constexpr double kNsPerMeterTwoWay = 2e9 / physics::kSpeedOfLightMPerS;
 constexpr std::uint32_t kCdfCells = 4096;
 constexpr std::size_t kBinOffsets = 256;
 constexpr std::uint32_t kNoRng = 0xFFFFFFFFu;  // a pixel without a stream yet; no neighbour
+constexpr double kNoEventNs = std::numeric_limits<double>::infinity();  // b.first: no event
 
 }  // namespace
 
@@ -178,7 +179,9 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
     take_carry(b);
     first_levels(g.first, static_cast<std::uint32_t>(n), b);
     const bool crosstalk_on = sensor_.geiger.crosstalk_probability > 0.0 && opt_.noise;
-    if (crosstalk_on) {
+    const bool single = sensor_.geiger.max_events == 1;  // one event a pixel: b.first
+    if (single) b.first.resize(n);
+    if (crosstalk_on && !single) {
         b.after.clear();
         b.after_at.assign(1, 0);
     }
@@ -196,7 +199,7 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
             out.stats.pulses++;
             const bool close =
                 pixel_events(g, hits, terms, weighted_k, i, carried(g.first + i, b), scratch);
-            if (b.event_at[i + 1] == b.event_at[i])
+            if (single ? !(b.first[i].t_ns < kNoEventNs) : b.event_at[i + 1] == b.event_at[i])
                 (close ? out.stats.too_close : out.stats.misses)++;
         }
         // Crosstalk frame by frame (the pixel-pulses of one laser pulse are adjacent).
@@ -208,13 +211,18 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
                      crosstalk_on && (g.first + i0) % pixels == 0 && end - i0 == pixels, b);
         i0 = end;
     }
-    if (crosstalk_on) {
+    if (crosstalk_on && !single) {
         std::swap(b.events, b.after);
         std::swap(b.event_at, b.after_at);
     }
     scratch.event_kind.clear();
     scratch.expected_pe.clear();
-    for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t i = 0; i < n && single; ++i) {
+        if (!(b.first[i].t_ns < kNoEventNs)) continue;
+        add_event(i, 0, b.first[i], b.arrivals_of(i), scratch);
+        scratch.expected_pe.push_back(b.expected[i]);
+    }
+    for (std::uint32_t i = 0; i < n && !single; ++i) {
         const std::span<const physics::Arrival> arrivals(b.arrivals.data() + b.arrival_at[i],
                                                          b.arrival_at[i + 1] - b.arrival_at[i]);
         for (std::size_t e = b.event_at[i]; e < b.event_at[i + 1]; ++e)
@@ -260,7 +268,11 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
         event_rate(arrivals, noise_per_bin, scratch);
         draw_events(level, armed_from, pixel, rng, scratch);
     }
-    b.events.insert(b.events.end(), scratch.events.begin(), scratch.events.end());
+    if (sensor_.geiger.max_events == 1)
+        b.first[i] =
+            scratch.events.empty() ? physics::GeigerEvent{kNoEventNs} : scratch.events.front();
+    else
+        b.events.insert(b.events.end(), scratch.events.begin(), scratch.events.end());
     if (!scratch.events.empty())  // (read for its events' surfaces only)
         b.arrivals.insert(b.arrivals.end(), arrivals.begin(), arrivals.end());
     b.event_at.push_back(b.events.size());
@@ -336,16 +348,16 @@ void PulseShader::draw_events(double level, double armed_from, const physics::Ge
 void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b) const {
     const auto& a = sensor_.array;
     const std::uint32_t n = std::min<std::uint32_t>(a.pixels(), std::uint32_t(g.specs.size() - i0));
+    if (sensor_.geiger.max_events == 1) {  // in place (a frame the batch cut: as it is)
+        if (g.specs[i0].pixel == 0) crosstalk_first(g, i0, n, b);
+        return;
+    }
     if (g.specs[i0].pixel != 0) {  // a frame cut by the batch (never in render()): as it is
         for (std::uint32_t p = 0; p < n; ++p) {
             b.after.insert(b.after.end(), b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p]),
                            b.events.begin() + std::ptrdiff_t(b.event_at[i0 + p + 1]));
             b.after_at.push_back(b.after.size());
         }
-        return;
-    }
-    if (sensor_.geiger.max_events == 1) {
-        crosstalk_first(g, i0, n, b);
         return;
     }
     b.own.clear();
@@ -402,30 +414,19 @@ void PulseShader::crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint
         opt_.seed, kCrosstalkStream, b.pulses.data(), b.blocks.data(), n,
         {b.words[0].data(), b.words[1].data(), b.words[2].data(), b.words[3].data()});
     b.fires.resize(n);
-    b.first_own.resize(n);
     b.armed.assign(n, -std::numeric_limits<double>::infinity());
     physics::crosstalk_fires(
         {b.words[0].data(), b.words[1].data(), b.words[2].data(), b.words[3].data()},
         sensor_.geiger.crosstalk_probability, sensor_.array.columns, n, b.fires.data());
-    for (std::uint32_t p = 0; p < n; ++p) {
-        const std::size_t e = b.event_at[i0 + p];
-        b.first_own[p] = e < b.event_at[i0 + p + 1]
-                             ? b.events[e]
-                             : physics::GeigerEvent{std::numeric_limits<double>::infinity(),
-                                                    physics::EventKind::Noise};
-        if (geiger_->free_running)
+    if (geiger_->free_running)
+        for (std::uint32_t p = 0; p < n; ++p)
             if (const double d = carried(frame_pulse + p, b); d > 0.0) b.armed[p] = d;
-    }
-    physics::crosstalk_first_events(b.first_own, b.armed, b.fires, sensor_.array.columns,
-                                    b.first_kept, b.firing);
-    for (std::uint32_t p = 0; p < n; ++p) {
-        const physics::GeigerEvent& e = b.first_kept[p];
-        if (std::isfinite(e.t_ns)) {
-            b.after.push_back(e);
-            b.armed[p] = e.t_ns + sensor_.geiger.dead_time_ns;  // (for carry_on)
-        }
-        b.after_at.push_back(b.after.size());
-    }
+    const std::span<physics::GeigerEvent> events(b.first.data() + i0, n);
+    physics::crosstalk_first_events(events, b.armed, b.fires, sensor_.array.columns, b.firing);
+    if (geiger_->free_running)  // (for carry_on)
+        for (std::uint32_t p = 0; p < n; ++p)
+            if (events[p].t_ns < kNoEventNs)
+                b.armed[p] = events[p].t_ns + sensor_.geiger.dead_time_ns;
 }
 
 // The neighbours (left, right, up, down) that pixel p's detection fires, kNoRng for the others:

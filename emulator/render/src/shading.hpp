@@ -168,7 +168,7 @@ struct GeigerBatch {
     std::vector<std::size_t> after_at;
     // Crosstalk of first events only (crosstalk_first): per pixel its own event, the neighbours
     // it fires (from block 0 of its stream, drawn for the frame at once) and its kept event.
-    std::vector<physics::GeigerEvent> first_own, first_kept;
+    std::vector<physics::GeigerEvent> first;  // max_events 1: each pulse's event (+inf: none)
     std::vector<std::uint8_t> fires;
     std::vector<physics::CrosstalkFiring> firing;
     std::vector<std::uint32_t> blocks;
@@ -182,6 +182,9 @@ struct GeigerBatch {
     // own draw re-arms it; per pixel, the dead time carried into the window of frame
     // carry_frame[p] (ns into it; ≤ 0: armed at its start).
     std::vector<double> own_end;
+    std::span<const physics::Arrival> arrivals_of(std::size_t i) const {
+        return {arrivals.data() + arrival_at[i], arrival_at[i + 1] - arrival_at[i]};
+    }
     std::vector<double> carry;
     std::vector<std::uint64_t> carry_frame;
     std::uint64_t take_frame = 0;  // > 0: the carry into this frame is still to come (CarryChain)

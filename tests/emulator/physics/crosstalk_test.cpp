@@ -119,7 +119,8 @@ TEST(Crosstalk, first_events_in_closed_form_match_the_time_ordered_rule) {
             const std::uint32_t w[4] = {word(gen), word(gen), word(gen), word(gen)};
             fires[p] = crosstalk_fires(w, p_fire, p, columns, n);
         }
-        crosstalk_first_events(own, armed, fires, columns, kept, heap);
+        kept = own;
+        crosstalk_first_events(kept, armed, fires, columns, heap);
         const auto want = time_ordered(own, armed, fires, columns, ties);
         ASSERT_EQ(kept.size(), n);
         for (std::uint32_t p = 0; p < n; ++p) {

@@ -31,15 +31,15 @@ struct CrosstalkFiring {
 void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double probability,
                      std::uint32_t columns, std::uint32_t pixels, std::uint8_t* out);
 
-// One frame's crosstalk when every pixel reports its first detection only (max_events = 1).
-// Pixel p holds its own first event own[p] (t_ns = +inf: none), fires at or after armed[p]
-// (a dead time carried from an earlier frame; −inf: armed) and, when it detects, fires the
-// neighbours fires[p] at the same time. Processing all events in time order, as a detector does,
-// keeps for each pixel the earliest event reaching it at or after armed[p], its own on a tie;
-// that is, the earliest own event over the chains of firings that reach it. `kept` gets each
-// pixel's (t_ns = +inf: none); `heap` is scratch. O(n + f log f) for f firing pixels.
-void crosstalk_first_events(std::span<const GeigerEvent> own, std::span<const double> armed,
+// One frame's crosstalk when every pixel reports its first detection only (max_events = 1), in
+// place: events[p] holds pixel p's own first event (t_ns = +inf: none) and becomes the one it
+// keeps. Pixel p fires at or after armed[p] (a dead time carried from an earlier frame; −inf:
+// armed) and, when it detects, fires the neighbours fires[p] at the same time. Processing all
+// events in time order, as a detector does, keeps for each pixel the earliest event reaching it
+// at or after armed[p], its own on a tie; that is, the earliest own event over the chains of
+// firings that reach it armed. `heap` is scratch. O(n + f log f) for f firing pixels.
+void crosstalk_first_events(std::span<GeigerEvent> events, std::span<const double> armed,
                             std::span<const std::uint8_t> fires, std::uint32_t columns,
-                            std::vector<GeigerEvent>& kept, std::vector<CrosstalkFiring>& heap);
+                            std::vector<CrosstalkFiring>& heap);
 
 }  // namespace mirage::physics
