@@ -9,8 +9,8 @@ namespace {
 
 constexpr double kHuge = 1e300;  // as EventRate: a signal above it is taken as not finite
 
-// Where the running sum Λ crossed the level: the bin k holding signal s, Λ's signal part before
-// it (c_before) and the signal bin before it (−1: none). Past every signal bin: k = −1.
+// Where Λ at a signal bin's end first exceeds the level: that bin k (−1: none does), its signal
+// s, Λ's signal part before it (c_before) and the signal bin before it (−1: none).
 struct Crossing {
     std::int64_t k = -1, before = -1;
     double s = 0, c_before = 0;
@@ -40,6 +40,20 @@ std::int64_t last_with_signal(const SignalRun& r, std::int64_t to) {
     return -1;
 }
 
+// EventRate::time_at's formula for the level: inside bin x.k, in the noise before it, or (no
+// crossing) in the noise after the last signal bin, c the signal of all bins; +inf: never.
+double time_at_level(const Crossing& x, double c, std::size_t bins, double noise, double bin_ns,
+                     double level) {
+    if (x.k < 0) {
+        if (!(level < std::fma(noise, double(bins), c)) || !(noise > 0.0)) return INFINITY;
+        return std::min(double(bins), (level - c) / noise) * bin_ns;
+    }
+    if (const double start = std::fma(noise, double(x.k), x.c_before); level >= start)
+        return (double(x.k) + std::min(1.0, (level - start) / (noise + x.s))) * bin_ns;
+    if (noise > 0.0) return std::min(double(bins), (level - x.c_before) / noise) * bin_ns;
+    return double(x.k) * bin_ns;
+}
+
 }  // namespace
 
 // EventRate::add_run's sums (Λ's signal part at a bin: the sum before its run plus scale times
@@ -52,7 +66,6 @@ FirstEventResult gated_first_event(std::span<const SignalRun> runs, std::size_t 
     std::int64_t last = -1;  // the last bin with signal
     double c = 0;            // the signal before the run
     Crossing x;
-    bool crossed = false;
     for (const SignalRun& r : runs) {
         const std::int64_t hi =
             std::min<std::int64_t>(std::int64_t(r.n), std::int64_t(bins) - r.k0);
@@ -61,38 +74,25 @@ FirstEventResult gated_first_event(std::span<const SignalRun> runs, std::size_t 
         const std::int64_t lo = std::max<std::int64_t>(0, -r.k0);
         if (lo >= hi) continue;                          // outside the gate
         if (lo > 0) return FirstEventResult::Undecided;  // its sums start inside the run
-        if (!crossed) {
+        if (x.k < 0) {
             std::int64_t j = bins_at_or_below(r, hi, noise, c, level);
             while (j < hi && !has_signal(r, j)) ++j;  // the first entry above: one with signal
             if (j < hi) {
                 const std::int64_t before = last_with_signal(r, j);
                 x = {r.k0 + j, before >= 0 ? r.k0 + before : last, r.scale * r.w[j],
                      j > 0 ? std::fma(r.scale, r.shares[j - 1], c) : c};
-                crossed = true;
             }
         }
         if (const std::int64_t e = last_with_signal(r, hi); e >= 0) last = r.k0 + e;
         c = std::fma(r.scale, r.shares[hi - 1], c);
     }
-    if (!crossed && !(level < std::fma(noise, double(bins), c)))
-        return FirstEventResult::None;  // beyond the gate
-    double t;
-    if (!crossed) {  // in the noise after the last signal bin
-        if (!(noise > 0.0)) return FirstEventResult::None;  // (at the gate's end)
-        t = std::min(double(bins), (level - c) / noise) * bin_ns;
-    } else if (const double start = std::fma(noise, double(x.k), x.c_before); level >= start) {
-        t = (double(x.k) + std::min(1.0, (level - start) / (noise + x.s))) * bin_ns;
-    } else if (noise > 0.0) {  // in the noise before bin k
-        t = std::min(double(bins), (level - x.c_before) / noise) * bin_ns;
-    } else {
-        t = double(x.k) * bin_ns;
-    }
-    if (!(t < bin_ns * double(bins))) return FirstEventResult::None;
+    const double t = time_at_level(x, c, bins, noise, bin_ns, level);
+    if (!(t < bin_ns * double(bins))) return FirstEventResult::None;  // (+inf: none)
     const auto bin = std::int64_t(std::min(bins - 1, static_cast<std::size_t>(t / bin_ns)));
     double n;  // the bin's expected primary events
-    if (crossed && bin == x.k)
+    if (x.k >= 0 && bin == x.k)
         n = noise + x.s;
-    else if (crossed ? bin > x.before && bin < x.k : bin > last)
+    else if (x.k >= 0 ? bin > x.before && bin < x.k : bin > last)
         n = noise;
     else
         return FirstEventResult::Undecided;

@@ -223,8 +223,7 @@ void PulseShader::geiger_returns(const RayBatch& g, const std::vector<Hit>& hits
         scratch.expected_pe.push_back(b.expected[i]);
     }
     for (std::uint32_t i = 0; i < n && !single; ++i) {
-        const std::span<const physics::Arrival> arrivals(b.arrivals.data() + b.arrival_at[i],
-                                                         b.arrival_at[i + 1] - b.arrival_at[i]);
+        const std::span<const physics::Arrival> arrivals = b.arrivals_of(i);
         for (std::size_t e = b.event_at[i]; e < b.event_at[i + 1]; ++e)
             add_event(i, static_cast<std::uint32_t>(e - b.event_at[i]), b.events[e], arrivals,
                       scratch);

@@ -160,15 +160,19 @@ struct GeigerBatch {
     std::vector<physics::Arrival> arrivals;
     std::vector<std::size_t> event_at, arrival_at;
     std::vector<double> expected;
+    std::span<const physics::Arrival> arrivals_of(std::size_t i) const {
+        return {arrivals.data() + arrival_at[i], arrival_at[i + 1] - arrival_at[i]};
+    }
     std::vector<FrameEvent> own, made, kept;
     std::vector<double> armed;
     std::vector<std::uint32_t> count, rng_of;
     std::vector<core::PulseRng> rngs;
     std::vector<physics::GeigerEvent> after;
     std::vector<std::size_t> after_at;
-    // Crosstalk of first events only (crosstalk_first): per pixel its own event, the neighbours
-    // it fires (from block 0 of its stream, drawn for the frame at once) and its kept event.
-    std::vector<physics::GeigerEvent> first;  // max_events 1: each pulse's event (+inf: none)
+    // A pixel that reports its first event only: each pulse's event (t_ns = +inf: none), which
+    // crosstalk_first changes in place; per pixel of the frame, the neighbours it fires (from
+    // block 0 of its stream 9, drawn for the frame at once) and the draw's scratch.
+    std::vector<physics::GeigerEvent> first;
     std::vector<std::uint8_t> fires;
     std::vector<physics::CrosstalkFiring> firing;
     std::vector<std::uint32_t> blocks;
@@ -182,9 +186,6 @@ struct GeigerBatch {
     // own draw re-arms it; per pixel, the dead time carried into the window of frame
     // carry_frame[p] (ns into it; ≤ 0: armed at its start).
     std::vector<double> own_end;
-    std::span<const physics::Arrival> arrivals_of(std::size_t i) const {
-        return {arrivals.data() + arrival_at[i], arrival_at[i + 1] - arrival_at[i]};
-    }
     std::vector<double> carry;
     std::vector<std::uint64_t> carry_frame;
     std::uint64_t take_frame = 0;  // > 0: the carry into this frame is still to come (CarryChain)
@@ -225,10 +226,6 @@ struct ShadeScratch {
     std::vector<std::uint64_t> pulse;
     std::vector<std::uint32_t> block;
     std::array<std::vector<std::uint32_t>, 4> words;
-    // Each pixel-pulse's block 0 of stream 8 (first_levels) and its first event's level.
-    std::array<std::vector<std::uint32_t>, 4> first_words;
-    std::vector<double> level;
-    std::vector<physics::SignalRun> runs;        // a pixel's arrivals as rows (first_event)
     std::vector<std::uint32_t> sample_words;     // the waveform's words in sample order
     std::array<std::vector<double>, 4> normals;  // void test, range, jitter x, jitter y
     std::vector<Contribution> contributions;
