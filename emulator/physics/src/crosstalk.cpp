@@ -6,18 +6,6 @@
 
 namespace mirage::physics {
 
-std::uint8_t crosstalk_fires(const std::uint32_t words[4], double probability, std::uint32_t p,
-                             std::uint32_t columns, std::uint32_t pixels) {
-    const std::uint32_t col = p % columns, row = p / columns;
-    const bool inside[4] = {col > 0, col + 1 < columns && p + 1 < pixels, row > 0,
-                            std::uint64_t(p) + columns < pixels};
-    std::uint8_t out = 0;
-    for (int s = 0; s < 4; ++s)
-        if (inside[s] && core::uniform_of_word(words[s]) < probability)
-            out = static_cast<std::uint8_t>(out | (1u << s));
-    return out;
-}
-
 // uniform_of_word(w) < probability ⟺ w + ½ < probability·2³² (both sides exact) ⟺ w below
 // ⌈probability·2³² − ½⌉, an integer up to 2³².
 void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double probability,
@@ -38,11 +26,11 @@ void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double pr
     }
 }
 
-// Each pixel starts from its own event (dead: none); the pixels that fire anything pass their times on in
-// increasing order of time (a detection's time is final when it is the least left: only an
-// earlier one could lower it), each to the neighbours that would take it (armed, and earlier
-// than what they hold). So every pixel ends with the least time over the chains of firings
-// that reach it armed: what the time-ordered pass keeps (docs/photon-counting.md §2).
+// Each pixel starts from its own event (none if it is dead then); the pixels that fire anything
+// pass their times on in increasing order of time (a detection's time is final when it is the
+// least left: only an earlier one could lower it), each to the neighbours that would take it
+// (armed, and earlier than what they hold). So every pixel ends with the least time over the chains
+// of firings that reach it armed: what the time-ordered pass keeps (docs/photon-counting.md §2).
 void crosstalk_first_events(std::span<GeigerEvent> kept, std::span<const double> armed,
                             std::span<const std::uint8_t> fires, std::uint32_t columns,
                             std::vector<CrosstalkFiring>& heap) {

@@ -7,8 +7,6 @@
 namespace mirage::physics {
 namespace {
 
-constexpr double kHuge = 1e300;  // as EventRate: a signal above it is taken as not finite
-
 // Where Λ at a signal bin's end first exceeds the level: that bin k (−1: none does), its signal
 // s, Λ's signal part before it (c_before) and the signal bin before it (−1: none).
 struct Crossing {
@@ -18,7 +16,7 @@ struct Crossing {
 
 bool has_signal(const SignalRun& r, std::int64_t j) {
     const double s = r.scale * r.w[j];
-    return s > 0.0 && s < kHuge;
+    return s > 0.0 && s < EventRate::kHuge;  // as add_run takes a bin
 }
 
 // The bins of run r (from 0, up to hi) whose Λ at the end lies at or below the level, c the

@@ -280,16 +280,22 @@ bool PulseShader::pixel_events(const RayBatch& g, const std::vector<Hit>& hits, 
     return close;
 }
 
-// The batch's pixel-pulses' first uniforms (block 0 of stream 8) at once, and from the first of
-// each its first event's level −ln u (physics::first_level's draw).
-void PulseShader::first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch& b) const {
+// Block 0 of stream `stream` of the pulses [first, first + n) at once, word k into words[k].
+void PulseShader::first_blocks(std::uint64_t first, std::uint32_t n, std::uint32_t stream,
+                               GeigerBatch& b,
+                               std::array<std::vector<std::uint32_t>, 4>& words) const {
     b.pulses.resize(n);
     b.blocks.assign(n, 0);
     for (std::uint32_t i = 0; i < n; ++i) b.pulses[i] = first + i;
-    for (auto& w : b.first_words) w.resize(n);
-    core::philox_blocks(opt_.seed, kGeigerStream, b.pulses.data(), b.blocks.data(), n,
-                        {b.first_words[0].data(), b.first_words[1].data(), b.first_words[2].data(),
-                         b.first_words[3].data()});
+    for (auto& w : words) w.resize(n);
+    core::philox_blocks(opt_.seed, stream, b.pulses.data(), b.blocks.data(), n,
+                        {words[0].data(), words[1].data(), words[2].data(), words[3].data()});
+}
+
+// The batch's pixel-pulses' first uniforms (block 0 of stream 8) at once, and from the first of
+// each its first event's level −ln u (physics::first_level's draw).
+void PulseShader::first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch& b) const {
+    first_blocks(first, n, kGeigerStream, b, b.first_words);
     b.level.resize(n);
     for (std::uint32_t i = 0; i < n; ++i)
         b.level[i] = -core::log_poly(core::uniform_of_word(b.first_words[0][i]));
@@ -405,13 +411,7 @@ void PulseShader::crosstalk(const RayBatch& g, std::uint32_t i0, GeigerBatch& b)
 void PulseShader::crosstalk_first(const RayBatch& g, std::uint32_t i0, std::uint32_t n,
                                   GeigerBatch& b) const {
     const std::uint64_t frame_pulse = g.first + i0;
-    b.pulses.resize(n);
-    b.blocks.assign(n, 0);
-    for (std::uint32_t p = 0; p < n; ++p) b.pulses[p] = frame_pulse + p;
-    for (auto& w : b.words) w.resize(n);
-    core::philox_blocks(
-        opt_.seed, kCrosstalkStream, b.pulses.data(), b.blocks.data(), n,
-        {b.words[0].data(), b.words[1].data(), b.words[2].data(), b.words[3].data()});
+    first_blocks(frame_pulse, n, kCrosstalkStream, b, b.words);
     b.fires.resize(n);
     b.armed.assign(n, -std::numeric_limits<double>::infinity());
     physics::crosstalk_fires(

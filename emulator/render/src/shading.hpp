@@ -412,6 +412,8 @@ class PulseShader {
     void take_carry(GeigerBatch& b) const;
     void carry_on(std::uint64_t first, std::uint32_t i0, std::uint32_t end, bool crosstalk,
                   GeigerBatch& b) const;
+    void first_blocks(std::uint64_t first, std::uint32_t n, std::uint32_t stream, GeigerBatch& b,
+                      std::array<std::vector<std::uint32_t>, 4>& words) const;
     void first_levels(std::uint64_t first, std::uint32_t n, GeigerBatch& b) const;
     bool first_event(std::span<const physics::Arrival> arrivals, double noise_per_bin, double level,
                      const physics::GeigerPixel& pixel, const std::array<std::uint32_t, 4>& block0,

@@ -15,19 +15,16 @@ namespace mirage::physics {
 // The neighbours one detection fires, as bits.
 enum CrosstalkFire : std::uint8_t { kFireLeft = 1, kFireRight = 2, kFireUp = 4, kFireDown = 8 };
 
-// Which of pixel p's neighbours (left, right, up, down: word s for direction s, fired when its
-// uniform is below `probability`) lie in a frame of `pixels` pixels, `columns` wide, row-major.
-std::uint8_t crosstalk_fires(const std::uint32_t words[4], double probability, std::uint32_t p,
-                             std::uint32_t columns, std::uint32_t pixels);
-
 // A detection's time and pixel, waiting to fire its neighbours.
 struct CrosstalkFiring {
     double t_ns;
     std::uint32_t p;
 };
 
-// The same for a whole frame, pixel p's words at words[s][p], into out[p]: a loop over the
-// array's rows and columns whose compares, made on the words themselves, vectorise.
+// Which of each pixel's neighbours (left, right, up, down) its detection fires, into out[p]:
+// direction s when the uniform of pixel p's word words[s][p] lies below `probability` and the
+// neighbour is in the frame of `pixels` pixels, `columns` wide, row-major. One loop over the
+// rows and columns whose compares, made on the words themselves, vectorise.
 void crosstalk_fires(const std::array<const std::uint32_t*, 4>& words, double probability,
                      std::uint32_t columns, std::uint32_t pixels, std::uint8_t* out);
 

@@ -27,6 +27,7 @@ struct SignalBin {
 // every query is O(log m) in the m signal bins.
 class EventRate {
   public:
+    static constexpr double kHuge = 1e300;  // above it a signal is taken as not finite
     // Dense: one signal value per bin (zeros allowed).
     EventRate(std::span<const double> signal, double noise_per_bin, double bin_ns);
     // Sparse: `bins` bins, the signal ones in increasing k, each k < bins at most once.
@@ -56,7 +57,7 @@ class EventRate {
         end_.push_back(std::fma(noise_, double(k + 1), cum_.back()));
     }
     // Bins k0 + j for j < n expecting scale·w[j] (a pulse's shares times its photo-electrons),
-    // as add() would take them one by one, in one pass; Λ's signal part at each bin is the sum
+    // the bins add() would take one by one, in one pass; Λ's signal part at each bin is the sum
     // before the run plus scale times the run's shares so far (one rounding of the product for
     // each bin, not a running sum of products), so gated_first_event finds it without a chain
     // of additions (docs/photon-counting.md §2).
@@ -80,7 +81,6 @@ class EventRate {
     double first_event_probability(std::size_t k) const;
 
   private:
-    static constexpr double kHuge = 1e300;   // above it a signal is taken as not finite
     std::size_t entry(std::size_t k) const;  // signal entries with key < k
     std::vector<std::uint32_t> key_;         // signal bins, increasing
     std::vector<double> signal_;             // their S_k
